@@ -1,0 +1,1 @@
+//! The model deck (`.deck`, version 1): see docs/deck.md.

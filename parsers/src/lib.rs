@@ -1,0 +1,2 @@
+pub mod uff;
+pub mod deck;

@@ -1,0 +1,17 @@
+//! frfup: make a finite-element model agree with a vibration test.
+//!
+//! Data flows one way, one module per stage:
+//!
+//! `frfup_parsers` (UFF files, model decks) → [`testdata`] (measured FRFs) and
+//! [`model`] (FE matrices) → [`solvers`] (modes, FRFs) → [`updating`]
+//! (the FRF updating method of Yan & Golinval) → reports.
+//!
+//! The `frfup` binary is a thin layer over this library.
+
+pub mod fsio;
+pub mod model;
+pub mod solvers;
+pub mod testdata;
+pub mod updating;
+
+pub use frfup_parsers as parsers;

@@ -1,0 +1,138 @@
+//! The FE model: built from a deck, assembled sparse, with the derivative of
+//! K and M with respect to every updating parameter.
+//!
+//! CONTRACT (shared with `solvers` and `updating`): the items in this file
+//! marked CONTRACT keep their names and meaning; add freely around them.
+
+use std::collections::BTreeMap;
+
+use faer::sparse::SparseColMat;
+
+/// CONTRACT. Global sparse matrices: free DOFs only, both triangles stored.
+pub type SparseMatrix = SparseColMat<usize, f64>;
+
+/// CONTRACT. A nodal degree of freedom; UFF direction codes 1..6 = x y z rx ry rz.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Dof {
+    X,
+    Y,
+    Z,
+    Rx,
+    Ry,
+    Rz,
+}
+
+impl Dof {
+    /// CONTRACT. UFF direction code (±1..±6) → DOF and sign (−1.0 for a reversed sense).
+    pub fn from_uff_code(code: i32) -> Option<(Dof, f64)> {
+        let dof = match code.abs() {
+            1 => Dof::X,
+            2 => Dof::Y,
+            3 => Dof::Z,
+            4 => Dof::Rx,
+            5 => Dof::Ry,
+            6 => Dof::Rz,
+            _ => return None,
+        };
+        Some((dof, if code < 0 { -1.0 } else { 1.0 }))
+    }
+
+    /// CONTRACT. The UFF direction code (1..6) of this DOF, positive sense.
+    pub fn uff_code(self) -> i32 {
+        match self {
+            Dof::X => 1,
+            Dof::Y => 2,
+            Dof::Z => 3,
+            Dof::Rx => 4,
+            Dof::Ry => 5,
+            Dof::Rz => 6,
+        }
+    }
+
+    /// CONTRACT. The deck's name of this DOF (`x y z rx ry rz`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Dof::X => "x",
+            Dof::Y => "y",
+            Dof::Z => "z",
+            Dof::Rx => "rx",
+            Dof::Ry => "ry",
+            Dof::Rz => "rz",
+        }
+    }
+}
+
+/// CONTRACT. Global damping model of the deck (`damping ...`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Damping {
+    #[default]
+    None,
+    /// Same viscous damping ratio ζ for every mode.
+    Modal { zeta: f64 },
+    /// C = αM + βK.
+    Rayleigh { alpha: f64, beta: f64 },
+    /// Structural damping: K(1 + iη).
+    Hysteretic { eta: f64 },
+}
+
+/// CONTRACT. Relative changes p̄ of the deck's parameters (`param NAME ...`):
+/// updated value = (1 + p̄) × deck value. A parameter absent from the map is 0.
+pub type ParameterValues = BTreeMap<String, f64>;
+
+/// CONTRACT. ∂K/∂p and ∂M/∂p of one updating parameter (Eq. 30–31), where p is
+/// the relative change about the *current* value (X = (1 + p)·X_current), taken at p = 0.
+/// Units: those of K (N/m, N, N·m/rad) and M (kg, kg·m, kg·m²).
+pub struct ParameterSensitivity {
+    pub name: String,
+    pub dk: SparseMatrix,
+    pub dm: SparseMatrix,
+}
+
+/// CONTRACT. Numbering of the free DOFs: (node id, DOF) ↔ equation index.
+#[derive(Clone, Debug, Default)]
+pub struct DofMap {
+    /// Equation index → (node id, DOF), in equation order.
+    pub equations: Vec<(u32, Dof)>,
+    /// (node id, DOF) → equation index, for free DOFs only.
+    pub lookup: BTreeMap<(u32, Dof), usize>,
+}
+
+impl DofMap {
+    /// CONTRACT. Equation index of a free DOF; `None` if fixed or absent.
+    pub fn index(&self, node: u32, dof: Dof) -> Option<usize> {
+        self.lookup.get(&(node, dof)).copied()
+    }
+    /// CONTRACT. Number of free DOFs.
+    pub fn len(&self) -> usize {
+        self.equations.len()
+    }
+    pub fn is_empty(&self) -> bool {
+        self.equations.is_empty()
+    }
+}
+
+/// CONTRACT. An assembled FE model at given parameter values.
+pub struct FeModel {
+    pub dofs: DofMap,
+    /// K over the free DOFs (N/m, N/rad, N·m/rad).
+    pub stiffness: SparseMatrix,
+    /// M over the free DOFs (kg, kg·m, kg·m²).
+    pub mass: SparseMatrix,
+    pub damping: Damping,
+    /// One entry per deck `param`, in deck order.
+    pub parameters: Vec<ParameterSensitivity>,
+    /// True if the deck fixes at least one DOF (then zero-energy modes are mechanisms).
+    pub has_fixed_dofs: bool,
+    /// Test node id → FE node id, from the deck's `sensor` statements.
+    pub sensors: BTreeMap<u32, u32>,
+}
+
+impl FeModel {
+    /// CONTRACT. The equation index and sign of a measured channel: test node id
+    /// (mapped through `sensor`) and UFF direction code (negative flips the sign).
+    pub fn measured_dof(&self, test_node: u32, uff_direction: i32) -> Option<(usize, f64)> {
+        let node = self.sensors.get(&test_node).copied().unwrap_or(test_node);
+        let (dof, sign) = Dof::from_uff_code(uff_direction)?;
+        Some((self.dofs.index(node, dof)?, sign))
+    }
+}

@@ -1,0 +1,8 @@
+//! Solvers on assembled models: the generalised eigenproblem ([`eigen`]) and
+//! forced response ([`frf`]).
+//!
+//! CONTRACT (shared with `updating` and the CLI): items marked CONTRACT keep
+//! their names and meaning; add freely around them.
+
+pub mod eigen;
+pub mod frf;
