@@ -15,3 +15,4 @@ pub mod testdata;
 pub mod updating;
 
 pub use frfup_parsers as parsers;
+pub mod commands;

@@ -37,3 +37,81 @@ pub struct MeasuredFrfs {
     pub kind: FrfKind,
     pub channels: Vec<Channel>,
 }
+
+pub mod convert;
+pub mod load;
+
+pub use convert::{signed_real, signed_real_displacement};
+pub use load::{from_uff, load, TestDataError};
+
+impl FrfKind {
+    /// Power of iω that turns receptance into this kind: 0, 1 or 2.
+    pub fn order(self) -> i32 {
+        match self {
+            FrfKind::Receptance => 0,
+            FrfKind::Mobility => 1,
+            FrfKind::Accelerance => 2,
+        }
+    }
+
+    /// The UFF specific data type of the response (records 9): 8, 11 or 12.
+    pub fn uff_data_type(self) -> i32 {
+        match self {
+            FrfKind::Receptance => 8,
+            FrfKind::Mobility => 11,
+            FrfKind::Accelerance => 12,
+        }
+    }
+
+    /// The kind whose response has UFF specific data type `code` (8, 11, 12).
+    pub fn from_uff_data_type(code: i32) -> Option<FrfKind> {
+        match code {
+            8 => Some(FrfKind::Receptance),
+            11 => Some(FrfKind::Mobility),
+            12 => Some(FrfKind::Accelerance),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            FrfKind::Receptance => "receptance",
+            FrfKind::Mobility => "mobility",
+            FrfKind::Accelerance => "accelerance",
+        }
+    }
+
+    /// SI units of this kind.
+    pub fn units(self) -> &'static str {
+        match self {
+            FrfKind::Receptance => "m/N",
+            FrfKind::Mobility => "m/s/N",
+            FrfKind::Accelerance => "m/s^2/N",
+        }
+    }
+}
+
+impl Channel {
+    /// A short label such as `112+z/112+z` (response / reference).
+    pub fn label(&self) -> String {
+        format!(
+            "{}/{}",
+            dof_label(self.response_node, self.response_direction),
+            dof_label(self.reference_node, self.reference_direction)
+        )
+    }
+}
+
+/// `NODE±dir`, e.g. `112+z`, `7-ry`; unknown codes print as numbers.
+pub fn dof_label(node: i64, direction: i32) -> String {
+    let name = match direction.abs() {
+        1 => "x",
+        2 => "y",
+        3 => "z",
+        4 => "rx",
+        5 => "ry",
+        6 => "rz",
+        _ => return format!("{node}:{direction}"),
+    };
+    format!("{node}{}{name}", if direction < 0 { '-' } else { '+' })
+}

@@ -1,0 +1,303 @@
+//! `frfup convert IN OUT [--to KIND] [--channels SPEC] [--binary]`.
+
+use std::path::{Path, PathBuf};
+
+use frfup_parsers::uff::{Abscissa, Dataset, Function58, Ordinate, UffFile};
+
+use super::{progress::Progress, read_uff, CommandError};
+use crate::fsio::write_atomic_with;
+use crate::testdata::{self, FrfKind, MeasuredFrfs};
+
+/// Target of `--to`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Kind(FrfKind),
+    /// Eq. 50 / §3.6: signed real displacement FRF (m/N).
+    DisplacementReal,
+}
+
+/// Options of `frfup convert`.
+#[derive(Clone, Debug)]
+pub struct ConvertOptions {
+    pub input: PathBuf,
+    pub output: PathBuf,
+    pub to: Option<Target>,
+    /// Channel selection (see [`select`]); `None` keeps every dataset 58.
+    pub channels: Option<String>,
+    pub binary: bool,
+    pub progress: Progress,
+}
+
+/// What `convert` did, for the one-line summary.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConvertSummary {
+    pub records: usize,
+    pub lines: usize,
+    pub notes: Vec<String>,
+}
+
+enum OutputFormat {
+    Csv,
+    Uff,
+}
+
+fn output_format(path: &Path) -> Result<OutputFormat, CommandError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "csv" => Ok(OutputFormat::Csv),
+        "uff" | "unv" => Ok(OutputFormat::Uff),
+        _ => Err(CommandError::input(format!(
+            "{}: output must end in .csv, .uff or .unv",
+            path.display()
+        ))),
+    }
+}
+
+/// Select dataset 58 records by a channel SPEC: a comma list of 1-based
+/// positions among the file's dataset 58 records or ranges (`1-4,7`), or of
+/// response DOFs `NODE:DIR` (`112:3`, `112:+z`, `5:-ry`).
+pub fn select<'a>(file: &'a UffFile, spec: Option<&str>) -> Result<Vec<&'a Function58>, CommandError> {
+    let all: Vec<&Function58> = file
+        .datasets
+        .iter()
+        .filter_map(|d| match d {
+            Dataset::Function(f) => Some(f.as_ref()),
+            _ => None,
+        })
+        .collect();
+    let Some(spec) = spec else { return Ok(all) };
+    let bad = |item: &str, why: &str| {
+        CommandError::input(format!(
+            "--channels {spec:?}: {item:?} {why}; expected 1-based positions or ranges among the {} dataset 58 record(s) (e.g. 1-4,7) or response DOFs NODE:DIR (e.g. 112:3 or 112:+z)",
+            all.len()
+        ))
+    };
+    let mut chosen: Vec<usize> = Vec::new();
+    for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        if let Some((node, dir)) = item.split_once(':') {
+            let node: i64 = node.trim().parse().map_err(|_| bad(item, "has no node number"))?;
+            let dir = parse_direction(dir).ok_or_else(|| bad(item, "has no direction"))?;
+            let before = chosen.len();
+            for (i, f) in all.iter().enumerate() {
+                if f.response_node == node && f.response_direction == dir && !chosen.contains(&i) {
+                    chosen.push(i);
+                }
+            }
+            if chosen.len() == before {
+                return Err(bad(item, "matches no record"));
+            }
+        } else {
+            let (a, b) = match item.split_once('-') {
+                Some((a, b)) => (a.trim(), b.trim()),
+                None => (item, item),
+            };
+            let a: usize = a.parse().map_err(|_| bad(item, "is not a position"))?;
+            let b: usize = b.parse().map_err(|_| bad(item, "is not a position"))?;
+            if a == 0 || b < a || b > all.len() {
+                return Err(bad(item, "is out of range"));
+            }
+            for i in a - 1..b {
+                if !chosen.contains(&i) {
+                    chosen.push(i);
+                }
+            }
+        }
+    }
+    Ok(chosen.into_iter().map(|i| all[i]).collect())
+}
+
+/// A UFF direction code from `3`, `-3`, `+z`, `z`, `-ry` ...
+pub fn parse_direction(s: &str) -> Option<i32> {
+    let s = s.trim();
+    if let Ok(code) = s.parse::<i32>() {
+        return (code != 0 && code.abs() <= 6).then_some(code);
+    }
+    let (sign, name) = match s.as_bytes().first()? {
+        b'+' => (1, &s[1..]),
+        b'-' => (-1, &s[1..]),
+        _ => (1, s),
+    };
+    let code = match name.to_ascii_lowercase().as_str() {
+        "x" => 1,
+        "y" => 2,
+        "z" => 3,
+        "rx" => 4,
+        "ry" => 5,
+        "rz" => 6,
+        _ => return None,
+    };
+    Some(sign * code)
+}
+
+/// Run `frfup convert`.
+pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
+    let format = output_format(&opts.output)?;
+    let file = read_uff(&opts.input, opts.progress)?;
+    let selected = select(&file, opts.channels.as_deref())?;
+    if selected.is_empty() {
+        return Err(CommandError::input(format!(
+            "{}: no dataset 58 record to convert",
+            opts.input.display()
+        )));
+    }
+    let mut notes = Vec::new();
+    let records: Vec<Function58> = match opts.to {
+        None => selected.into_iter().cloned().collect(),
+        Some(target) => {
+            let subset = UffFile {
+                datasets: selected
+                    .iter()
+                    .map(|f| Dataset::Function(Box::new((*f).clone())))
+                    .collect(),
+                notes: Vec::new(),
+            };
+            let frfs = testdata::from_uff(&subset, &opts.input).map_err(|e| CommandError::input(e.to_string()))?;
+            converted_records(&selected, &frfs, target, &mut notes)
+        }
+    };
+    let lines = records.first().map(|f| f.len()).unwrap_or(0);
+    let count = records.len();
+    let written = match format {
+        OutputFormat::Csv => {
+            let csv = csv_text(&records).map_err(|e| CommandError::input(format!("{}: {e}", opts.input.display())))?;
+            write_atomic_with(&opts.output, |w| w.write_all(csv.as_bytes()))
+        }
+        OutputFormat::Uff => {
+            let records: Vec<Function58> = records
+                .into_iter()
+                .map(|mut f| {
+                    f.binary = opts.binary;
+                    f
+                })
+                .collect();
+            write_atomic_with(&opts.output, |mut w| frfup_parsers::uff::write_functions(&mut w, &records))
+        }
+    };
+    written.map_err(|e| CommandError::output(&opts.output, e))?;
+    Ok(ConvertSummary {
+        records: count,
+        lines,
+        notes,
+    })
+}
+
+/// Records carrying the converted values, headers taken from the originals.
+fn converted_records(
+    originals: &[&Function58],
+    frfs: &MeasuredFrfs,
+    target: Target,
+    notes: &mut Vec<String>,
+) -> Vec<Function58> {
+    let (values_real, kind): (Option<Vec<Vec<f64>>>, FrfKind) = match target {
+        Target::Kind(kind) => (None, kind),
+        Target::DisplacementReal => (Some(testdata::signed_real_displacement(frfs)), FrfKind::Receptance),
+    };
+    let converted = match target {
+        Target::Kind(kind) => {
+            let c = frfs.to_kind(kind);
+            if !c.zeroed_lines.is_empty() {
+                notes.push(format!(
+                    "{} zero-frequency line(s) set to 0: {} is undefined there when derived from {}",
+                    c.zeroed_lines.len(),
+                    kind.name(),
+                    frfs.kind.name()
+                ));
+            }
+            Some(c.frfs)
+        }
+        Target::DisplacementReal => {
+            if frfs.kind != FrfKind::Receptance && frfs.frequencies_hz.first() == Some(&0.0) {
+                notes.push("the 0 Hz line is set to 0: displacement is undefined there when derived from motion rates".into());
+            }
+            None
+        }
+    };
+    let (label, units) = match kind {
+        FrfKind::Receptance => ("Displacement", "m"),
+        FrfKind::Mobility => ("Velocity", "m/s"),
+        FrfKind::Accelerance => ("Acceleration", "m/s^2"),
+    };
+    originals
+        .iter()
+        .enumerate()
+        .map(|(i, f)| {
+            let mut f = (*f).clone();
+            f.numerator_axis.data_type = kind.uff_data_type();
+            f.numerator_axis.label = label.to_string();
+            f.numerator_axis.units_label = units.to_string();
+            f.numerator_axis.length_exponent = 1;
+            f.numerator_axis.force_exponent = 0;
+            match (&values_real, &converted) {
+                (Some(real), _) => {
+                    f.ordinate_type = 4;
+                    f.ordinate = Ordinate::Real(real[i].clone());
+                }
+                (None, Some(c)) => {
+                    f.ordinate_type = if f.ordinate_type == 2 || f.ordinate_type == 5 { 5 } else { 6 };
+                    f.ordinate = Ordinate::Complex(c.channels[i].values.iter().map(|v| (v.re, v.im)).collect());
+                }
+                (None, None) => {}
+            }
+            f
+        })
+        .collect()
+}
+
+/// CSV: `frequency_hz` (or the abscissa's name) then, per record, `<resp>/<ref> re`
+/// and `im`, or one column for real data. All records must share the abscissa.
+pub fn csv_text(records: &[Function58]) -> Result<String, String> {
+    let first = records.first().ok_or("no record")?;
+    let n = first.len();
+    for (i, f) in records.iter().enumerate() {
+        let same = f.len() == n && (0..n).all(|k| f.abscissa_at(k) == first.abscissa_at(k));
+        if !same {
+            return Err(format!(
+                "selected record {} does not share the abscissa of record 1; CSV needs one abscissa (select channels with --channels)",
+                i + 1
+            ));
+        }
+    }
+    let abscissa = match (first.abscissa_axis.data_type, &first.abscissa) {
+        (17, _) => "time_s",
+        (18, _) | (0, Abscissa::Even { .. }) | (0, Abscissa::Uneven(_)) if first.function_type != 1 => "frequency_hz",
+        _ if first.function_type == 1 => "time_s",
+        _ => "abscissa",
+    };
+    let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
+    let mut header = vec![abscissa.to_string()];
+    for f in records {
+        let label = format!(
+            "{}/{}",
+            crate::testdata::dof_label(f.response_node, f.response_direction),
+            crate::testdata::dof_label(f.reference_node, f.reference_direction)
+        );
+        match f.ordinate {
+            Ordinate::Real(_) => header.push(label),
+            Ordinate::Complex(_) => {
+                header.push(format!("{label} re"));
+                header.push(format!("{label} im"));
+            }
+        }
+    }
+    w.write_record(&header).map_err(|e| e.to_string())?;
+    let mut row: Vec<String> = Vec::with_capacity(header.len());
+    for k in 0..n {
+        row.clear();
+        row.push(format!("{:e}", first.abscissa_at(k)));
+        for f in records {
+            match &f.ordinate {
+                Ordinate::Real(v) => row.push(format!("{:e}", v[k])),
+                Ordinate::Complex(v) => {
+                    row.push(format!("{:e}", v[k].0));
+                    row.push(format!("{:e}", v[k].1));
+                }
+            }
+        }
+        w.write_record(&row).map_err(|e| e.to_string())?;
+    }
+    let bytes = w.into_inner().map_err(|e| e.to_string())?;
+    String::from_utf8(bytes).map_err(|e| e.to_string())
+}

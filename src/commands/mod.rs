@@ -1,0 +1,58 @@
+//! The command-line tasks as library calls: each takes typed options, writes
+//! its files atomically and returns a typed error that `main` turns into a
+//! message and an exit code (0 fine, 1 a threshold failed, 2 bad input or usage).
+
+pub mod convert;
+pub mod info;
+pub mod progress;
+
+/// A failed command: what to print and which exit code to use.
+#[derive(Debug)]
+pub struct CommandError {
+    /// 1: a threshold failed; 2: bad input, usage or an output that could not be written.
+    pub exit_code: i32,
+    pub message: String,
+}
+
+impl CommandError {
+    /// Bad input or usage (exit code 2).
+    pub fn input(message: impl Into<String>) -> Self {
+        CommandError {
+            exit_code: 2,
+            message: message.into(),
+        }
+    }
+    /// A quality threshold failed (exit code 1).
+    pub fn threshold(message: impl Into<String>) -> Self {
+        CommandError {
+            exit_code: 1,
+            message: message.into(),
+        }
+    }
+    /// An output file could not be written (exit code 2).
+    pub fn output(path: &std::path::Path, e: std::io::Error) -> Self {
+        CommandError::input(format!("{}: cannot write: {e}", path.display()))
+    }
+}
+
+impl std::fmt::Display for CommandError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for CommandError {}
+
+/// Read a whole UFF file (with a progress bar on a terminal) and parse it;
+/// errors name the file.
+pub fn read_uff(
+    path: &std::path::Path,
+    progress: progress::Progress,
+) -> Result<frfup_parsers::uff::UffFile, CommandError> {
+    let bytes = progress::read_with_progress(path, progress)
+        .map_err(|e| CommandError::input(format!("{}: cannot read: {e}", path.display())))?;
+    let spinner = progress.spinner(format!("parsing {}", path.display()), bytes.len());
+    let parsed = frfup_parsers::uff::parse(&bytes);
+    spinner.finish();
+    parsed.map_err(|e| CommandError::input(format!("{}: {e}", path.display())))
+}

@@ -1,0 +1,168 @@
+//! Gather dataset 58 FRF records of a UFF file into [`MeasuredFrfs`].
+
+use std::path::{Path, PathBuf};
+
+use faer::c64;
+use frfup_parsers::uff::{Dataset, Function58, Ordinate, UffError, UffFile};
+
+use super::{Channel, FrfKind, MeasuredFrfs};
+
+/// UFF function type of a frequency response function (record 6).
+pub const FUNCTION_TYPE_FRF: i32 = 4;
+
+/// Why test data could not be read.
+#[derive(Debug)]
+pub enum TestDataError {
+    /// The file could not be opened or read.
+    Io { path: PathBuf, source: std::io::Error },
+    /// The file is not valid UFF.
+    Uff { path: PathBuf, source: UffError },
+    /// The file holds no usable FRF record.
+    NoFrfs { path: PathBuf, detail: String },
+    /// Records disagree (frequency axis, kind) or cannot be interpreted.
+    Inconsistent { path: PathBuf, detail: String },
+}
+
+impl std::fmt::Display for TestDataError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TestDataError::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            TestDataError::Uff { path, source } => write!(f, "{}: {source}", path.display()),
+            TestDataError::NoFrfs { path, detail } | TestDataError::Inconsistent { path, detail } => {
+                write!(f, "{}: {detail}", path.display())
+            }
+        }
+    }
+}
+
+impl std::error::Error for TestDataError {}
+
+/// Read a UFF file and gather its FRF records.
+pub fn load(path: &Path) -> Result<MeasuredFrfs, TestDataError> {
+    let bytes = std::fs::read(path).map_err(|source| TestDataError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let file = frfup_parsers::uff::parse(&bytes).map_err(|source| TestDataError::Uff {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    from_uff(&file, path)
+}
+
+/// The FRF kind of a record, from the response's specific data type (record 9),
+/// or failing that from its units label.
+pub fn record_kind(f: &Function58) -> Option<FrfKind> {
+    if let Some(kind) = FrfKind::from_uff_data_type(f.numerator_axis.data_type) {
+        return Some(kind);
+    }
+    let label = format!("{} {}", f.numerator_axis.units_label, f.id_lines[0]).to_lowercase();
+    let label = label.replace(' ', "");
+    if label.contains("s^2")
+        || label.contains("s²")
+        || label.contains("s2")
+        || label.contains("accel")
+        || label.contains("(g)")
+        || label.starts_with("g/")
+        || label == "g"
+    {
+        Some(FrfKind::Accelerance)
+    } else if label.contains("m/s") || label.contains("mobil") || label.contains("veloc") {
+        Some(FrfKind::Mobility)
+    } else if label.contains("recept") || label.contains("displ") {
+        Some(FrfKind::Receptance)
+    } else {
+        None
+    }
+}
+
+/// Gather the FRF records (function type 4) of `file` into channels on a
+/// common frequency axis. `path` only names the file in errors.
+pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataError> {
+    let records: Vec<(usize, &Function58)> = file
+        .datasets
+        .iter()
+        .enumerate()
+        .filter_map(|(i, d)| match d {
+            Dataset::Function(f) if f.function_type == FUNCTION_TYPE_FRF => Some((i, f.as_ref())),
+            _ => None,
+        })
+        .collect();
+    let inconsistent = |detail: String| TestDataError::Inconsistent {
+        path: path.to_path_buf(),
+        detail,
+    };
+    let Some(&(first_index, first)) = records.first() else {
+        let n58 = file
+            .datasets
+            .iter()
+            .filter(|d| matches!(d, Dataset::Function(_)))
+            .count();
+        return Err(TestDataError::NoFrfs {
+            path: path.to_path_buf(),
+            detail: format!(
+                "no FRF record (dataset 58 with function type 4) among {} dataset(s) ({n58} of type 58)",
+                file.datasets.len()
+            ),
+        });
+    };
+    let kind = record_kind(first).ok_or_else(|| {
+        inconsistent(format!(
+            "dataset #{}: cannot tell whether the FRF is receptance, mobility or accelerance \
+             (record 9 specific data type {} is not 8, 11 or 12, and the units label {:?} does not say)",
+            first_index + 1,
+            first.numerator_axis.data_type,
+            first.numerator_axis.units_label
+        ))
+    })?;
+    let n = first.len();
+    let frequencies_hz: Vec<f64> = (0..n).map(|i| first.abscissa_at(i)).collect();
+    let scale = frequencies_hz.iter().fold(0.0f64, |a, &b| a.max(b.abs())).max(1e-300);
+    let mut channels = Vec::with_capacity(records.len());
+    for &(index, f) in &records {
+        if f.len() != n {
+            return Err(inconsistent(format!(
+                "dataset #{} has {} frequency lines, dataset #{} has {n}: all FRFs must share one frequency axis",
+                index + 1,
+                f.len(),
+                first_index + 1
+            )));
+        }
+        if let Some(line) = (0..n).find(|&i| (f.abscissa_at(i) - frequencies_hz[i]).abs() > 1e-9 * scale) {
+            return Err(inconsistent(format!(
+                "dataset #{} line {} is at {} Hz, dataset #{} at {} Hz: all FRFs must share one frequency axis",
+                index + 1,
+                line + 1,
+                f.abscissa_at(line),
+                first_index + 1,
+                frequencies_hz[line]
+            )));
+        }
+        let this_kind = record_kind(f).unwrap_or(kind);
+        if this_kind != kind {
+            return Err(inconsistent(format!(
+                "dataset #{} is {}, dataset #{} is {}: convert them to one kind first",
+                index + 1,
+                this_kind.name(),
+                first_index + 1,
+                kind.name()
+            )));
+        }
+        let values = match &f.ordinate {
+            Ordinate::Real(v) => v.iter().map(|&re| c64::new(re, 0.0)).collect(),
+            Ordinate::Complex(v) => v.iter().map(|&(re, im)| c64::new(re, im)).collect(),
+        };
+        channels.push(Channel {
+            response_node: f.response_node,
+            response_direction: f.response_direction,
+            reference_node: f.reference_node,
+            reference_direction: f.reference_direction,
+            values,
+        });
+    }
+    Ok(MeasuredFrfs {
+        frequencies_hz,
+        kind,
+        channels,
+    })
+}
