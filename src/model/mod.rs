@@ -8,6 +8,17 @@ use std::collections::BTreeMap;
 
 use faer::sparse::SparseColMat;
 
+mod assembly;
+pub mod elements;
+mod error;
+mod properties;
+pub mod sensitivity;
+mod update;
+
+pub use assembly::{build, dof_of};
+pub use error::ModelError;
+pub use update::{parameter_names, updated_deck};
+
 /// CONTRACT. Global sparse matrices: free DOFs only, both triangles stored.
 pub type SparseMatrix = SparseColMat<usize, f64>;
 

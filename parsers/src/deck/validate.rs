@@ -1,0 +1,473 @@
+//! Semantic pass: IDs, cross references, admissible values, and the
+//! restrictions of `analysis plane` / `analysis space`.
+//!
+//! Issues are raised against a statement and, where one is at fault, one of
+//! its arguments; [`refine`] turns that into the argument's column when the
+//! source text is at hand (in [`super::parse`]).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use super::lexer::{strip_comment, tokenize};
+use super::{Analysis, DampingModel, Deck, DeckError, FixDofs, Pos, Quantity, Target};
+
+/// Which part of a statement an issue is about.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Arg {
+    /// The statement as a whole (its keyword).
+    Statement,
+    /// The i-th positional argument after the keyword (0-based).
+    Positional(usize),
+    /// The value of `key=value`.
+    Key(&'static str),
+    /// A position stored in the deck itself (ID ranges, orient).
+    At(Pos),
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct Issue {
+    pub pos: Pos,
+    pub arg: Arg,
+    pub message: String,
+}
+
+struct Issues(Vec<Issue>);
+
+impl Issues {
+    fn push(&mut self, pos: Pos, arg: Arg, message: impl Into<String>) {
+        self.0.push(Issue {
+            pos,
+            arg,
+            message: message.into(),
+        });
+    }
+    /// Raise an issue unless `v > 0` (NaN is rejected too).
+    fn positive(&mut self, pos: Pos, key: &'static str, what: &str, v: f64) {
+        if !(v > 0.0 && v.is_finite()) {
+            self.push(
+                pos,
+                Arg::Key(key),
+                format!("{what} `{key}` must be positive, found {v}"),
+            );
+        }
+    }
+    /// Raise an issue unless `v >= 0`.
+    fn non_negative(&mut self, pos: Pos, arg: Arg, what: &str, v: f64) {
+        if !(v >= 0.0 && v.is_finite()) {
+            self.push(pos, arg, format!("{what} must not be negative, found {v}"));
+        }
+    }
+}
+
+/// All issues of a deck (unordered).
+pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
+    let mut out = Issues(Vec::new());
+    let plane = deck.analysis == Analysis::Plane;
+
+    let mut materials = BTreeMap::new();
+    for m in &deck.materials {
+        bad_name(&mut out, m.pos, "material", &m.name);
+        if let Some(prev) = materials.insert(m.name.as_str(), m.pos) {
+            out.push(
+                m.pos,
+                Arg::Positional(0),
+                format!("duplicate material `{}` (first at line {})", m.name, prev.line),
+            );
+        }
+        out.positive(m.pos, "E", "Young's modulus", m.e);
+        out.positive(m.pos, "rho", "density", m.rho);
+        if let Some(g) = m.g {
+            out.positive(m.pos, "G", "shear modulus", g);
+        }
+        if let Some(nu) = m.nu {
+            if !(nu > -1.0 && nu <= 0.5) {
+                out.push(
+                    m.pos,
+                    Arg::Key("nu"),
+                    format!("Poisson's ratio `nu` must lie in (-1, 0.5], found {nu}"),
+                );
+            }
+        }
+    }
+
+    let mut sections = BTreeMap::new();
+    for s in &deck.sections {
+        bad_name(&mut out, s.pos, "section", &s.name);
+        if let Some(prev) = sections.insert(s.name.as_str(), s.pos) {
+            out.push(
+                s.pos,
+                Arg::Positional(0),
+                format!("duplicate section `{}` (first at line {})", s.name, prev.line),
+            );
+        }
+        out.positive(s.pos, "A", "area", s.a);
+        out.positive(s.pos, "Iy", "second moment of area", s.iy);
+        for (key, v, what) in [
+            ("Iz", s.iz, "second moment of area"),
+            ("J", s.j, "torsion constant"),
+            ("ky", s.ky, "shear coefficient"),
+            ("kz", s.kz, "shear coefficient"),
+        ] {
+            if let Some(v) = v {
+                out.positive(s.pos, key, what, v);
+            }
+        }
+        if !plane {
+            for (key, v) in [("Iz", s.iz), ("J", s.j)] {
+                if v.is_none() {
+                    out.push(
+                        s.pos,
+                        Arg::Statement,
+                        format!(
+                            "section `{}` lacks `{key}=…`, required for `analysis space`",
+                            s.name
+                        ),
+                    );
+                }
+            }
+        }
+    }
+
+    let mut nodes = BTreeMap::new();
+    for n in &deck.nodes {
+        if let Some(prev) = nodes.insert(n.id, n.pos) {
+            out.push(
+                n.pos,
+                Arg::Positional(0),
+                format!("duplicate node ID {} (first at line {})", n.id, prev.line),
+            );
+        }
+        for (i, c) in n.xyz.iter().enumerate() {
+            if !c.is_finite() {
+                out.push(n.pos, Arg::Positional(i + 1), "coordinate must be finite");
+            }
+        }
+        if plane && n.xyz[1] != 0.0 {
+            out.push(
+                n.pos,
+                Arg::Positional(2),
+                format!(
+                    "node {} has y = {} but `analysis plane` requires y = 0",
+                    n.id, n.xyz[1]
+                ),
+            );
+        }
+    }
+    let node_ok = |id: u32| nodes.contains_key(&id);
+
+    let mut beams = BTreeMap::new();
+    for b in &deck.beams {
+        if let Some(prev) = beams.insert(b.id, b.pos) {
+            out.push(
+                b.pos,
+                Arg::Positional(0),
+                format!("duplicate beam ID {} (first at line {})", b.id, prev.line),
+            );
+        }
+        for (i, n) in b.nodes.iter().enumerate() {
+            if !node_ok(*n) {
+                out.push(
+                    b.pos,
+                    Arg::Positional(i + 1),
+                    format!("beam {} uses undefined node {n}", b.id),
+                );
+            }
+        }
+        if b.nodes[0] == b.nodes[1] {
+            out.push(
+                b.pos,
+                Arg::Positional(2),
+                format!("beam {} connects node {} to itself", b.id, b.nodes[0]),
+            );
+        }
+        if !materials.contains_key(b.material.as_str()) {
+            out.push(
+                b.pos,
+                Arg::Positional(3),
+                format!("beam {} uses undefined material `{}`", b.id, b.material),
+            );
+        }
+        if !sections.contains_key(b.section.as_str()) {
+            out.push(
+                b.pos,
+                Arg::Positional(4),
+                format!("beam {} uses undefined section `{}`", b.id, b.section),
+            );
+        }
+        if let Some(o) = &b.orient {
+            let v = o.vector;
+            if v.iter().any(|c| !c.is_finite()) || v.iter().all(|c| *c == 0.0) {
+                out.push(
+                    b.pos,
+                    Arg::At(o.pos),
+                    "orient must be a finite, non-zero vector",
+                );
+            } else if plane && (v[0] != 0.0 || v[2] != 0.0) {
+                out.push(
+                    b.pos,
+                    Arg::At(o.pos),
+                    "in `analysis plane` the local y axis is normal to the x–z plane: orient must be along global y (0,±1,0)",
+                );
+            }
+        }
+    }
+
+    let mut masses = BTreeMap::new();
+    for m in &deck.masses {
+        if let Some(prev) = masses.insert(m.id, m.pos) {
+            out.push(
+                m.pos,
+                Arg::Positional(0),
+                format!("duplicate mass ID {} (first at line {})", m.id, prev.line),
+            );
+        }
+        if !node_ok(m.node) {
+            out.push(
+                m.pos,
+                Arg::Positional(1),
+                format!("mass {} is on undefined node {}", m.id, m.node),
+            );
+        }
+        out.non_negative(m.pos, Arg::Key("m"), "mass `m`", m.m);
+        for (key, v) in [("Ixx", m.ixx), ("Iyy", m.iyy), ("Izz", m.izz)] {
+            if let Some(v) = v {
+                out.non_negative(m.pos, Arg::Key(key), &format!("rotary inertia `{key}`"), v);
+            }
+        }
+    }
+
+    let mut springs = BTreeMap::new();
+    for s in &deck.springs {
+        if let Some(prev) = springs.insert(s.id, s.pos) {
+            out.push(
+                s.pos,
+                Arg::Positional(0),
+                format!("duplicate spring ID {} (first at line {})", s.id, prev.line),
+            );
+        }
+        if !node_ok(s.node) {
+            out.push(
+                s.pos,
+                Arg::Positional(1),
+                format!("spring {} is on undefined node {}", s.id, s.node),
+            );
+        }
+        if !deck.analysis.has_dof(s.dof) {
+            out.push(
+                s.pos,
+                Arg::Positional(2),
+                format!(
+                    "DOF `{}` does not exist in `analysis plane` (DOFs x, z, ry)",
+                    s.dof.name()
+                ),
+            );
+        }
+        out.positive(s.pos, "k", "spring stiffness", s.k);
+        if let Some(to) = s.to {
+            if !node_ok(to) {
+                out.push(
+                    s.pos,
+                    Arg::Key("to"),
+                    format!("spring {} goes to undefined node {to}", s.id),
+                );
+            } else if to == s.node {
+                out.push(
+                    s.pos,
+                    Arg::Key("to"),
+                    format!("spring {} connects node {to} to itself", s.id),
+                );
+            }
+        }
+    }
+
+    for f in &deck.fixes {
+        if !node_ok(f.node) {
+            out.push(
+                f.pos,
+                Arg::Positional(0),
+                format!("`fix` on undefined node {}", f.node),
+            );
+        }
+        if let FixDofs::List(list) = &f.dofs {
+            if list.is_empty() {
+                out.push(f.pos, Arg::Positional(1), "`fix` lists no DOF");
+            }
+            for d in list {
+                if !deck.analysis.has_dof(*d) {
+                    out.push(
+                        f.pos,
+                        Arg::Positional(1),
+                        format!(
+                            "DOF `{}` does not exist in `analysis plane` (DOFs x, z, ry)",
+                            d.name()
+                        ),
+                    );
+                }
+            }
+        }
+    }
+
+    if let Some(d) = &deck.damping {
+        let values: Vec<(&str, f64)> = match d.model {
+            DampingModel::Modal { zeta } => vec![("ZETA", zeta)],
+            DampingModel::Rayleigh { alpha, beta } => vec![("ALPHA", alpha), ("BETA", beta)],
+            DampingModel::Hysteretic { eta } => vec![("ETA", eta)],
+        };
+        for (i, (name, v)) in values.into_iter().enumerate() {
+            out.non_negative(d.pos, Arg::Positional(i + 1), &format!("damping {name}"), v);
+        }
+    }
+
+    let mut params = BTreeMap::new();
+    let ids_of = |t: Target| -> Vec<u32> {
+        match t {
+            Target::Beam => beams.keys().copied().collect(),
+            Target::Mass => masses.keys().copied().collect(),
+            Target::Spring => springs.keys().copied().collect(),
+        }
+    };
+    let target_ids = [Target::Beam, Target::Mass, Target::Spring].map(|t| (t, ids_of(t)));
+    for p in &deck.params {
+        bad_name(&mut out, p.pos, "parameter", &p.name);
+        if let Some(prev) = params.insert(p.name.as_str(), p.pos) {
+            out.push(
+                p.pos,
+                Arg::Positional(0),
+                format!("duplicate parameter `{}` (first at line {})", p.name, prev.line),
+            );
+        }
+        if plane && matches!(p.quantity, Quantity::Iz | Quantity::J) {
+            out.push(
+                p.pos,
+                Arg::Positional(1),
+                format!(
+                    "quantity `{}` does not apply in `analysis plane` (only bending in x–z, governed by Iy)",
+                    p.quantity.name()
+                ),
+            );
+        }
+        if p.ids.is_empty() {
+            out.push(p.pos, Arg::Positional(2), "`param` lists no ID");
+        }
+        let target = p.quantity.target();
+        let ids = &target_ids
+            .iter()
+            .find(|(t, _)| *t == target)
+            .map(|(_, v)| v.as_slice())
+            .unwrap_or(&[]);
+        for r in &p.ids {
+            let lo = ids.partition_point(|&i| i < r.first);
+            let hi = ids.partition_point(|&i| i <= r.last);
+            let present = (hi - lo) as u64;
+            let wanted = u64::from(r.last) - u64::from(r.first) + 1;
+            if r.first > r.last || present != wanted {
+                let missing = (r.first..=r.last)
+                    .find(|i| ids.binary_search(i).is_err())
+                    .unwrap_or(r.first);
+                out.push(
+                    p.pos,
+                    Arg::At(r.pos),
+                    format!(
+                        "parameter `{}` on `{}` lists {} ID {missing}, which does not exist{}",
+                        p.name,
+                        p.quantity.name(),
+                        target.name(),
+                        other_kind_hint(deck, target, missing)
+                    ),
+                );
+            }
+        }
+    }
+
+    let mut sensors = BTreeMap::new();
+    for s in &deck.sensors {
+        if let Some(prev) = sensors.insert(s.test_node, s.pos) {
+            out.push(
+                s.pos,
+                Arg::Positional(0),
+                format!(
+                    "duplicate sensor for test node {} (first at line {})",
+                    s.test_node, prev.line
+                ),
+            );
+        }
+        if !node_ok(s.node) {
+            out.push(
+                s.pos,
+                Arg::Positional(1),
+                format!("sensor maps test node {} to undefined node {}", s.test_node, s.node),
+            );
+        }
+    }
+    out.0
+}
+
+/// Names are non-empty and free of blanks, `=`, `,` and `#` (so they can be written).
+fn bad_name(out: &mut Issues, pos: Pos, what: &str, name: &str) {
+    if name.is_empty() || name.chars().any(|c| c.is_whitespace() || matches!(c, '=' | ',' | '#')) {
+        out.push(
+            pos,
+            Arg::Positional(0),
+            format!("{what} name `{name}` must be non-empty without blanks, `=`, `,` or `#`"),
+        );
+    }
+}
+
+/// A hint when the ID exists as another kind of statement (e.g. `m` on a beam ID).
+fn other_kind_hint(deck: &Deck, target: Target, id: u32) -> String {
+    let kinds: BTreeSet<&str> = [
+        (Target::Beam, deck.beams.iter().any(|b| b.id == id)),
+        (Target::Mass, deck.masses.iter().any(|m| m.id == id)),
+        (Target::Spring, deck.springs.iter().any(|s| s.id == id)),
+    ]
+    .into_iter()
+    .filter(|(t, present)| *t != target && *present)
+    .map(|(t, _)| t.name())
+    .collect();
+    if kinds.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " (there is a {} {id}: this quantity does not apply to it)",
+            kinds.into_iter().collect::<Vec<_>>().join("/")
+        )
+    }
+}
+
+/// The position of an issue's argument, found in the source line if given.
+pub(crate) fn refine(issue: &Issue, source: Option<&str>) -> Pos {
+    if let Arg::At(p) = issue.arg {
+        return p;
+    }
+    let Some(text) = source else { return issue.pos };
+    let Some(line) = text.split('\n').nth(issue.pos.line.saturating_sub(1) as usize) else {
+        return issue.pos;
+    };
+    let toks = tokenize(strip_comment(line), issue.pos.line);
+    match issue.arg {
+        Arg::Statement | Arg::At(_) => issue.pos,
+        Arg::Positional(i) => toks.get(i + 1).map(|t| t.pos).unwrap_or(issue.pos),
+        Arg::Key(key) => toks
+            .iter()
+            .skip(1)
+            .find(|t| t.text.split_once('=').map(|(k, _)| k) == Some(key))
+            .map(|t| t.pos_at(key.len() + 1))
+            .unwrap_or(issue.pos),
+    }
+}
+
+/// The first issue in source order, positioned with `source` if given.
+pub(crate) fn first_error(deck: &Deck, source: Option<&str>) -> Result<(), DeckError> {
+    let mut all: Vec<DeckError> = issues(deck)
+        .iter()
+        .map(|i| DeckError::new(refine(i, source), i.message.clone()))
+        .collect();
+    all.sort_by_key(|e| e.pos());
+    match all.into_iter().next() {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+pub(crate) fn validate(deck: &Deck) -> Result<(), DeckError> {
+    first_error(deck, None)
+}

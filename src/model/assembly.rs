@@ -1,0 +1,343 @@
+//! Deck → assembled sparse K and M over the free DOFs.
+//!
+//! DOF numbering: nodes in ascending ID, each node's DOFs in the order
+//! x y z rx ry rz (those of the analysis). A DOF is *active* if an element
+//! reaches it (every analysis DOF of a beam's nodes; the translations of a
+//! `mass` with m ≠ 0 and the rotations with a non-zero inertia; the DOF of a
+//! spring); inactive DOFs would be empty rows of both K and M and get no
+//! equation. Fixed DOFs get none either.
+//!
+//! K and M are built from one list of (row, col) pairs, so they share one
+//! sparsity pattern (explicit zeros included): solvers may combine them by
+//! their value arrays.
+
+use std::collections::{BTreeMap, HashMap};
+
+use faer::sparse::{Pair, SymbolicSparseColMat, Triplet};
+use frfup_parsers::deck::{Analysis, Deck, DeckDof, FixDofs, Pos};
+
+use super::elements::beam::{local_mass, local_stiffness, Matrix12};
+use super::elements::frame::{local_frame, to_global, FrameError, LocalFrame};
+use super::elements::lumped::{mass_terms, spring_pair};
+use super::properties::{beam_properties, check_values, factors, Factors, Indices};
+use super::{sensitivity, Damping, Dof, DofMap, FeModel, ModelError, ParameterValues, SparseMatrix};
+
+/// No equation.
+pub(crate) const NONE: usize = usize::MAX;
+
+/// The model DOF of a deck DOF name.
+pub fn dof_of(d: DeckDof) -> Dof {
+    match d {
+        DeckDof::X => Dof::X,
+        DeckDof::Y => Dof::Y,
+        DeckDof::Z => Dof::Z,
+        DeckDof::Rx => Dof::Rx,
+        DeckDof::Ry => Dof::Ry,
+        DeckDof::Rz => Dof::Rz,
+    }
+}
+
+/// Everything the assembly of K, M and their derivatives needs.
+pub(crate) struct Layout {
+    pub analysis: Analysis,
+    /// Node ID → index in `deck.nodes`.
+    pub node_index: HashMap<u32, usize>,
+    /// Per node (deck order): equation of x y z rx ry rz, or `NONE`.
+    pub equations: Vec<[usize; 6]>,
+    /// Per beam (deck order): length and local axes.
+    pub frames: Vec<LocalFrame>,
+    pub indices: Indices,
+    pub factors: Factors,
+}
+
+impl Layout {
+    /// Local 12×12 rows that the analysis keeps (plane: x, z, ry of each node).
+    pub fn kept_rows(&self) -> &'static [usize] {
+        match self.analysis {
+            Analysis::Space => &[0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11],
+            Analysis::Plane => &[0, 2, 4, 6, 8, 10],
+        }
+    }
+    /// (local row, equation) of the free DOFs of beam `b`.
+    pub fn beam_equations(&self, deck: &Deck, b: usize) -> Vec<(usize, usize)> {
+        let beam = &deck.beams[b];
+        let mut out = Vec::with_capacity(12);
+        for &r in self.kept_rows() {
+            let node = beam.nodes[r / 6];
+            let eq = self
+                .node_index
+                .get(&node)
+                .map(|&i| self.equations[i][r % 6])
+                .unwrap_or(NONE);
+            if eq != NONE {
+                out.push((r, eq));
+            }
+        }
+        out
+    }
+    /// Equation of DOF `d` at node ID `node`, or `NONE`.
+    pub fn equation(&self, node: u32, d: DeckDof) -> usize {
+        self.node_index
+            .get(&node)
+            .map(|&i| self.equations[i][d.index()])
+            .unwrap_or(NONE)
+    }
+}
+
+/// Local axes of every beam; the first geometric error in source order.
+fn frames(deck: &Deck, node_index: &HashMap<u32, usize>) -> Result<Vec<LocalFrame>, ModelError> {
+    let mut out = Vec::with_capacity(deck.beams.len());
+    let mut first: Option<(Pos, ModelError)> = None;
+    for b in &deck.beams {
+        let xyz = |id: u32| node_index.get(&id).map(|&i| deck.nodes[i].xyz).unwrap_or([0.0; 3]);
+        match local_frame(xyz(b.nodes[0]), xyz(b.nodes[1]), b.orient.map(|o| o.vector)) {
+            Ok(f) => out.push(f),
+            Err(e) => {
+                let (pos, err) = match e {
+                    FrameError::ZeroLength { length } => (
+                        b.pos,
+                        ModelError::ZeroLength {
+                            beam: b.id,
+                            pos: b.pos,
+                            length,
+                        },
+                    ),
+                    FrameError::OrientParallel => {
+                        let pos = b.orient.map(|o| o.pos).unwrap_or(b.pos);
+                        (pos, ModelError::OrientParallel { beam: b.id, pos })
+                    }
+                };
+                if first.as_ref().is_none_or(|(p, _)| pos < *p) {
+                    first = Some((pos, err));
+                }
+            }
+        }
+    }
+    match first {
+        Some((_, e)) => Err(e),
+        None => Ok(out),
+    }
+}
+
+/// Active and fixed DOFs → equation numbers and the DOF map.
+fn number_dofs(
+    deck: &Deck,
+    node_index: &HashMap<u32, usize>,
+) -> (Vec<[usize; 6]>, DofMap, bool) {
+    let n = deck.nodes.len();
+    let mut active = vec![[false; 6]; n];
+    let analysis_dofs = deck.analysis.dofs();
+    let mut touch = |node: u32, d: DeckDof| {
+        if let Some(&i) = node_index.get(&node) {
+            active[i][d.index()] = true;
+        }
+    };
+    for b in &deck.beams {
+        for &node in &b.nodes {
+            for &d in analysis_dofs {
+                touch(node, d);
+            }
+        }
+    }
+    for m in &deck.masses {
+        for (d, _) in mass_terms(m, 1.0) {
+            touch(m.node, d);
+        }
+    }
+    for s in &deck.springs {
+        touch(s.node, s.dof);
+        if let Some(to) = s.to {
+            touch(to, s.dof);
+        }
+    }
+    let mut fixed = vec![[false; 6]; n];
+    for f in &deck.fixes {
+        if let Some(&i) = node_index.get(&f.node) {
+            match &f.dofs {
+                FixDofs::All => fixed[i] = [true; 6],
+                FixDofs::List(l) => {
+                    for d in l {
+                        fixed[i][d.index()] = true;
+                    }
+                }
+            }
+        }
+    }
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&i| deck.nodes[i].id);
+    let mut equations = vec![[NONE; 6]; n];
+    let mut map = DofMap::default();
+    let mut has_fixed = false;
+    for i in order {
+        let id = deck.nodes[i].id;
+        for &d in analysis_dofs {
+            let k = d.index();
+            if !active[i][k] {
+                continue;
+            }
+            if fixed[i][k] {
+                has_fixed = true;
+                continue;
+            }
+            let eq = map.equations.len();
+            equations[i][k] = eq;
+            map.equations.push((id, dof_of(d)));
+            map.lookup.insert((id, dof_of(d)), eq);
+        }
+    }
+    (equations, map, has_fixed)
+}
+
+/// Global 12×12 stiffness and mass of beam `b` at the layout's factors.
+pub(crate) fn beam_matrices(deck: &Deck, layout: &Layout, b: usize) -> (Matrix12<f64>, Matrix12<f64>) {
+    let beam = &deck.beams[b];
+    let frame = &layout.frames[b];
+    let (Some(mat), Some(sec)) = (deck.material(&beam.material), deck.section(&beam.section)) else {
+        // Unreachable after validation; an empty element keeps this panic-free.
+        return (Matrix12::zeros(), Matrix12::zeros());
+    };
+    let p = beam_properties::<f64>(mat, sec, layout.factors.beam[b]);
+    let k = local_stiffness(&p, frame.length, beam.theory());
+    let m = local_mass(&p, frame.length, beam.theory());
+    (to_global(&k, &frame.rotation), to_global(&m, &frame.rotation))
+}
+
+/// Check the deck and values, number the DOFs, form the local axes.
+pub(crate) fn layout(deck: &Deck, values: &ParameterValues) -> Result<(Layout, DofMap, bool), ModelError> {
+    deck.validate()?;
+    check_values(deck, values)?;
+    let node_index: HashMap<u32, usize> = deck.nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect();
+    let frames = frames(deck, &node_index)?;
+    let (equations, dofs, has_fixed) = number_dofs(deck, &node_index);
+    if dofs.is_empty() {
+        return Err(ModelError::NoDofs);
+    }
+    let indices = Indices::new(deck);
+    let factors = factors(deck, &indices, values);
+    Ok((
+        Layout {
+            analysis: deck.analysis,
+            node_index,
+            equations,
+            frames,
+            indices,
+            factors,
+        },
+        dofs,
+        has_fixed,
+    ))
+}
+
+/// Build the FE model of `deck` at parameter values `values` (relative
+/// changes p̄; updated value = (1 + p̄)·deck value).
+///
+/// Errors: the deck's own checks ([`ModelError::Deck`]), zero-length beams,
+/// `orient` parallel to a beam, unknown/non-finite parameter values or values
+/// ≤ −1, and a model without free DOFs.
+pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelError> {
+    let (layout, dofs, has_fixed_dofs) = layout(deck, values)?;
+    let n = dofs.len();
+
+    let mut pairs: Vec<Pair<usize, usize>> = Vec::new();
+    let mut kv: Vec<f64> = Vec::new();
+    let mut mv: Vec<f64> = Vec::new();
+    let entries: usize = deck.beams.len() * layout.kept_rows().len().pow(2);
+    pairs.reserve(entries);
+    kv.reserve(entries);
+    mv.reserve(entries);
+    for b in 0..deck.beams.len() {
+        let (k, m) = beam_matrices(deck, &layout, b);
+        let eqs = layout.beam_equations(deck, b);
+        for &(ri, row) in &eqs {
+            for &(ci, col) in &eqs {
+                let (kij, mij) = (k[(ri, ci)], m[(ri, ci)]);
+                if kij != 0.0 || mij != 0.0 {
+                    pairs.push(Pair { row, col });
+                    kv.push(kij);
+                    mv.push(mij);
+                }
+            }
+        }
+    }
+    for (i, mass) in deck.masses.iter().enumerate() {
+        for (d, v) in mass_terms(mass, layout.factors.mass[i]) {
+            let eq = layout.equation(mass.node, d);
+            if eq != NONE {
+                pairs.push(Pair { row: eq, col: eq });
+                kv.push(0.0);
+                mv.push(v);
+            }
+        }
+    }
+    for (i, s) in deck.springs.iter().enumerate() {
+        let k = s.k * layout.factors.spring[i];
+        for (row, col, v) in spring_entries(&layout, s, k) {
+            pairs.push(Pair { row, col });
+            kv.push(v);
+            mv.push(0.0);
+        }
+    }
+    let (symbolic, argsort) =
+        SymbolicSparseColMat::try_new_from_indices(n, n, &pairs).map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+    drop(pairs);
+    let stiffness = SparseMatrix::new_from_argsort(symbolic.clone(), &argsort, &kv)
+        .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+    let mass = SparseMatrix::new_from_argsort(symbolic, &argsort, &mv)
+        .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+
+    let parameters = sensitivity::derivatives(deck, &layout, n)?;
+    let damping = match deck.damping.map(|d| d.model) {
+        None => Damping::None,
+        Some(frfup_parsers::deck::DampingModel::Modal { zeta }) => Damping::Modal { zeta },
+        Some(frfup_parsers::deck::DampingModel::Rayleigh { alpha, beta }) => Damping::Rayleigh { alpha, beta },
+        Some(frfup_parsers::deck::DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
+    };
+    let sensors: BTreeMap<u32, u32> = deck.sensors.iter().map(|s| (s.test_node, s.node)).collect();
+    Ok(FeModel {
+        dofs,
+        stiffness,
+        mass,
+        damping,
+        parameters,
+        has_fixed_dofs,
+        sensors,
+    })
+}
+
+/// (row, col, value) of a spring of stiffness `k` on the free DOFs.
+pub(crate) fn spring_entries(
+    layout: &Layout,
+    s: &frfup_parsers::deck::Spring,
+    k: f64,
+) -> Vec<(usize, usize, f64)> {
+    let a = layout.equation(s.node, s.dof);
+    let mut out = Vec::with_capacity(4);
+    match s.to {
+        None => {
+            if a != NONE {
+                out.push((a, a, k));
+            }
+        }
+        Some(to) => {
+            let b = layout.equation(to, s.dof);
+            let kk = spring_pair(k);
+            let eqs = [a, b];
+            for i in 0..2 {
+                for j in 0..2 {
+                    if eqs[i] != NONE && eqs[j] != NONE {
+                        out.push((eqs[i], eqs[j], kk[i][j]));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A sparse matrix from triplets (duplicates summed).
+pub(crate) fn from_triplets(
+    n: usize,
+    t: &[Triplet<usize, usize, f64>],
+) -> Result<SparseMatrix, ModelError> {
+    SparseMatrix::try_new_from_triplets(n, n, t).map_err(|e| ModelError::Sparse(format!("{e:?}")))
+}
