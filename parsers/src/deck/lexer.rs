@@ -72,8 +72,11 @@ fn number_text(input: &str) -> IResult<&str, &str> {
 
 /// A finite floating-point number occupying the whole of `text`.
 pub(crate) fn number(text: &str) -> Option<f64> {
-    let (_, s) = all_consuming(number_text).parse(text).ok()?;
-    let v: f64 = s.replace(['d', 'D'], "e").parse().ok()?;
+    // The grammar check must consume all of `text`; the value is then read from
+    // `text` itself (nom 8's `recognize` over this tuple returned a truncated
+    // slice such as "0." for "0.001").
+    all_consuming(number_text).parse(text).ok()?;
+    let v: f64 = text.replace(['d', 'D'], "e").parse().ok()?;
     v.is_finite().then_some(v)
 }
 
@@ -169,6 +172,9 @@ mod tests {
         assert_eq!(number("2.0D+03"), Some(2000.0));
         assert_eq!(number("-.5"), Some(-0.5));
         assert_eq!(number("7."), Some(7.0));
+        assert_eq!(number("0.001"), Some(0.001));
+        assert_eq!(number("0.0075"), Some(0.0075));
+        assert_eq!(number("-12.5e-3"), Some(-0.0125));
         assert_eq!(number("+3"), Some(3.0));
         assert_eq!(number("1e999"), None);
         assert_eq!(number("1e"), None);
