@@ -47,6 +47,60 @@ enum Command {
         #[arg(long)]
         binary: bool,
     },
+    /// Natural frequencies and generalised masses of a deck's lowest modes.
+    Modes {
+        deck: PathBuf,
+        /// How many of the lowest modes.
+        #[arg(long, default_value_t = 20)]
+        count: usize,
+        /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
+    },
+    /// Write a measured-style campaign (dataset 58 FRFs) computed from a deck.
+    Simulate {
+        deck: PathBuf,
+        /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
+        #[arg(long)]
+        input: String,
+        /// Frequency lines F0:F1:N (Hz).
+        #[arg(long)]
+        band: String,
+        /// Output UFF file.
+        #[arg(long)]
+        out: PathBuf,
+        /// FRF kind written.
+        #[arg(long, value_enum, default_value = "accelerance")]
+        output: OutputKind,
+        /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
+        #[arg(long, default_value = "all")]
+        sensors: String,
+        /// Complex Gaussian noise, as a fraction of each channel's RMS.
+        #[arg(long, default_value_t = 0.0)]
+        noise: f64,
+        /// Seed of the noise generator.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Parameter values NAME=P (relative change), e.g. a known defect.
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
+        /// Write 58b binary records.
+        #[arg(long)]
+        binary: bool,
+        /// Complex single precision (ordinate type 5) instead of double (6).
+        #[arg(long)]
+        single: bool,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum OutputKind {
+    Receptance,
+    Mobility,
+    Accelerance,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -95,6 +149,62 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                     summary.lines,
                     output.display()
                 );
+            }
+        }
+        Command::Modes {
+            deck,
+            count,
+            csv,
+            set,
+        } => {
+            let values = commands::modes::parse_settings(&set)?;
+            print!(
+                "{}",
+                commands::modes::run(&commands::modes::ModesOptions {
+                    deck,
+                    count,
+                    csv,
+                    values,
+                })?
+            );
+        }
+        Command::Simulate {
+            deck,
+            input,
+            band,
+            out,
+            output,
+            sensors,
+            noise,
+            seed,
+            set,
+            binary,
+            single,
+        } => {
+            use commands::simulate as sim;
+            let campaign = frfup::simulate::Campaign {
+                input: sim::parse_node_direction(&input, "--input")?,
+                band: sim::parse_band(&band)?,
+                output: match output {
+                    OutputKind::Receptance => FrfKind::Receptance,
+                    OutputKind::Mobility => FrfKind::Mobility,
+                    OutputKind::Accelerance => FrfKind::Accelerance,
+                },
+                sensors: sim::parse_sensors(&sensors)?,
+                noise,
+                seed,
+            };
+            let values = commands::modes::parse_settings(&set)?;
+            let n = sim::run(&sim::SimulateOptions {
+                deck,
+                out: out.clone(),
+                campaign,
+                values,
+                binary,
+                single,
+            })?;
+            if !cli.quiet {
+                eprintln!("wrote {n} FRF record(s) to {}", out.display());
             }
         }
     }

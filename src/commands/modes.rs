@@ -1,0 +1,134 @@
+//! `frfup modes MODEL.deck [--count N] [--csv FILE] [--set NAME=VALUE ...]`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use super::{read_deck, CommandError};
+use crate::fsio::write_atomic;
+use crate::model::{self, ParameterValues};
+use crate::solvers::eigen::{lowest_modes, EigenOptions};
+
+/// Options of `frfup modes`.
+#[derive(Clone, Debug)]
+pub struct ModesOptions {
+    pub deck: PathBuf,
+    pub count: usize,
+    pub csv: Option<PathBuf>,
+    pub values: ParameterValues,
+}
+
+/// One row of the modes table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModeRow {
+    pub mode: usize,
+    pub frequency_hz: f64,
+    /// Generalised mass φ̂ᵀMφ̂ (kg) of the shape scaled to a largest translation of 1.
+    pub generalised_mass: f64,
+}
+
+/// Solve the deck's lowest modes.
+pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
+    let deck = read_deck(&opts.deck)?;
+    check_settings(&opts.deck, &deck, &opts.values)?;
+    let fe = model::build(&deck, &opts.values).map_err(|e| super::model_error(&opts.deck, e))?;
+    let modes = lowest_modes(
+        &fe.stiffness,
+        &fe.mass,
+        &EigenOptions {
+            count: opts.count,
+            expect_no_rigid_body_modes: fe.has_fixed_dofs,
+            ..EigenOptions::default()
+        },
+    )
+    .map_err(|e| CommandError::input(format!("{}: {e}", opts.deck.display())))?;
+    let translational: Vec<bool> = fe
+        .dofs
+        .equations
+        .iter()
+        .map(|(_, d)| matches!(d, model::Dof::X | model::Dof::Y | model::Dof::Z))
+        .collect();
+    let freqs = modes.frequencies_hz();
+    Ok((0..modes.len())
+        .map(|r| {
+            let col = modes.shapes.col(r);
+            let mut peak = 0.0f64;
+            for (i, &t) in translational.iter().enumerate() {
+                if t {
+                    peak = peak.max(col[i].abs());
+                }
+            }
+            if peak == 0.0 {
+                peak = (0..col.nrows()).fold(0.0f64, |a, i| a.max(col[i].abs()));
+            }
+            // Φ is mass-normalised (φᵀMφ = 1), so φ̂ = φ/peak has φ̂ᵀMφ̂ = 1/peak².
+            ModeRow {
+                mode: r + 1,
+                frequency_hz: freqs[r],
+                generalised_mass: if peak > 0.0 { 1.0 / (peak * peak) } else { f64::NAN },
+            }
+        })
+        .collect())
+}
+
+/// The table printed by `frfup modes`.
+pub fn table(rows: &[ModeRow]) -> String {
+    let mut s = format!("{:>5}  {:>14}  {:>20}\n", "mode", "frequency_hz", "generalised_mass_kg");
+    for r in rows {
+        let _ = writeln!(s, "{:>5}  {:>14.6}  {:>20.6e}", r.mode, r.frequency_hz, r.generalised_mass);
+    }
+    s
+}
+
+/// The CSV written by `--csv`: `mode,frequency_hz,generalised_mass_kg`.
+pub fn csv_text(rows: &[ModeRow]) -> String {
+    let mut s = String::from("mode,frequency_hz,generalised_mass_kg\n");
+    for r in rows {
+        let _ = writeln!(s, "{},{:e},{:e}", r.mode, r.frequency_hz, r.generalised_mass);
+    }
+    s
+}
+
+/// Run `frfup modes`: returns the table to print.
+pub fn run(opts: &ModesOptions) -> Result<String, CommandError> {
+    let rows = solve(opts)?;
+    if let Some(csv) = &opts.csv {
+        write_atomic(csv, csv_text(&rows).as_bytes()).map_err(|e| CommandError::output(csv, e))?;
+    }
+    Ok(table(&rows))
+}
+
+/// Parse `NAME=VALUE` settings of `--set` into parameter values.
+pub fn parse_settings(settings: &[String]) -> Result<ParameterValues, CommandError> {
+    let mut values = ParameterValues::new();
+    for s in settings {
+        let (name, value) = s
+            .split_once('=')
+            .ok_or_else(|| CommandError::input(format!("--set {s:?}: expected NAME=VALUE (relative change, e.g. p3=1.0)")))?;
+        let v: f64 = value
+            .trim()
+            .parse()
+            .map_err(|_| CommandError::input(format!("--set {s:?}: {value:?} is not a number")))?;
+        if !v.is_finite() || v <= -1.0 {
+            return Err(CommandError::input(format!(
+                "--set {s:?}: a relative change must be finite and > -1 (the value becomes (1 + p) x deck value)"
+            )));
+        }
+        values.insert(name.trim().to_string(), v);
+    }
+    Ok(values)
+}
+
+/// Check that every `--set` name is a parameter of the deck.
+pub fn check_settings(path: &Path, deck: &frfup_parsers::deck::Deck, values: &ParameterValues) -> Result<(), CommandError> {
+    let names = model::parameter_names(deck);
+    for name in values.keys() {
+        if !names.iter().any(|n| n == name) {
+            return Err(CommandError::input(format!(
+                "{}: --set {name}: the deck has no parameter {name:?} (it has: {})",
+                path.display(),
+                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+            )));
+        }
+    }
+    Ok(())
+}
