@@ -2,6 +2,28 @@
 //!
 //! CONTRACT (shared with `frfup::testdata` and the CLI): items marked CONTRACT
 //! keep their names and meaning; add freely around them.
+//!
+//! Reading: [`parse`] splits the file into dataset blocks (`split`), then
+//! parses the blocks on up to `available_parallelism` threads; the result and
+//! the first error (in file order) do not depend on the threading. Datasets
+//! read: 58/58b (`function58`), 151, 164 (`units`), 15, 2411, 18, 2420, 82
+//! (`geometry`), 55, 1858 (`other`); 2412, 2414 and unknown numbers are kept
+//! as [`OtherKind::Skipped`] with a note. Writing: [`write_functions`] (`write`).
+
+mod function58;
+pub mod geometry;
+pub mod other;
+mod split;
+mod text;
+pub mod units;
+pub mod write;
+
+pub use geometry::{CoordinateSystem, CsDefinition, Node, Part, TraceLine};
+pub use other::{Header151, NodalData55, NodeValues, OtherKind};
+pub use units::{
+    abscissa_si_factor, ordinate_si_factor, units_label_si_factor, UnitSystem, Units164,
+};
+pub use write::{write_function, write_functions_with, ByteOrder, WriteOptions};
 
 /// CONTRACT. A whole parsed file.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -29,6 +51,8 @@ pub struct OtherDataset {
     pub line: usize,
     /// A one-line human summary (e.g. "164 units: SI, length 1 m, force 1 N").
     pub summary: String,
+    /// The parsed content.
+    pub kind: OtherKind,
 }
 
 /// CONTRACT. Abscissa of a function record.
@@ -140,14 +164,116 @@ impl std::fmt::Display for UffError {
 
 impl std::error::Error for UffError {}
 
+/// Files smaller than this are parsed on one thread.
+const PARALLEL_MIN_BYTES: usize = 1 << 20;
+
+/// One parsed block: the dataset and the notes made while parsing it.
+type BlockResult = Result<(Dataset, Vec<String>), UffError>;
+
+fn parse_block(bytes: &[u8], block: &split::Block) -> BlockResult {
+    let mut notes = block.notes.clone();
+    let dataset = if block.number == 58 {
+        Dataset::Function(Box::new(function58::parse(bytes, block, &mut notes)?))
+    } else {
+        Dataset::Other(other::parse(bytes, block, &mut notes)?)
+    };
+    Ok((dataset, notes))
+}
+
+/// Parses the blocks, in parallel when worth it; results in block order.
+fn parse_blocks(bytes: &[u8], blocks: &[split::Block]) -> Vec<Option<BlockResult>> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 16)
+        .min(blocks.len());
+    if threads <= 1 || bytes.len() < PARALLEL_MIN_BYTES {
+        let mut out = Vec::with_capacity(blocks.len());
+        for b in blocks {
+            let r = parse_block(bytes, b);
+            let failed = r.is_err();
+            out.push(Some(r));
+            if failed {
+                break;
+            }
+        }
+        return out;
+    }
+    let next = AtomicUsize::new(0);
+    let first_error = AtomicUsize::new(usize::MAX);
+    let mut slots: Vec<Option<BlockResult>> = (0..blocks.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..threads)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut done = Vec::new();
+                    loop {
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        // Blocks after an error are not needed: the first error in
+                        // file order is reported, and every block before it is parsed.
+                        if i >= blocks.len() || i > first_error.load(Ordering::Relaxed) {
+                            break;
+                        }
+                        let r = parse_block(bytes, &blocks[i]);
+                        if r.is_err() {
+                            first_error.fetch_min(i, Ordering::Relaxed);
+                        }
+                        done.push((i, r));
+                    }
+                    done
+                })
+            })
+            .collect();
+        for w in workers {
+            match w.join() {
+                Ok(done) => {
+                    for (i, r) in done {
+                        slots[i] = Some(r);
+                    }
+                }
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+    });
+    slots
+}
+
 /// CONTRACT. Parse a whole file from its bytes.
+///
+/// Never panics; a malformed file gives an [`UffError`] naming the line (or
+/// byte offset), dataset index and number, and what was expected. Line
+/// numbers count line breaks of text parts (58b binary data count as one line).
 pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
-    let _ = bytes;
-    todo!("UFF helper implements this")
+    let split = split::split(bytes)?;
+    let results = parse_blocks(bytes, &split.blocks);
+    let mut file = UffFile {
+        datasets: Vec::with_capacity(split.blocks.len()),
+        notes: split.notes,
+    };
+    for (block, r) in split.blocks.iter().zip(results) {
+        let Some(r) = r else {
+            return Err(UffError {
+                line: Some(block.line),
+                byte_offset: block.start,
+                dataset_index: Some(block.index),
+                dataset_number: Some(block.number),
+                message: "dataset not parsed".into(),
+            });
+        };
+        let (dataset, notes) = r?;
+        file.datasets.push(dataset);
+        file.notes.extend(notes);
+    }
+    Ok(file)
 }
 
 /// CONTRACT. Write dataset 58 records (58b where `binary` is true) to `out`.
-pub fn write_functions<W: std::io::Write>(out: &mut W, functions: &[Function58]) -> std::io::Result<()> {
-    let _ = (out, functions);
-    todo!("UFF helper implements this")
+/// 58b data are little-endian; see [`write_functions_with`] for options.
+/// Non-finite values, or values that do not fit their Fortran fields, give an
+/// `InvalidInput` error.
+pub fn write_functions<W: std::io::Write>(
+    out: &mut W,
+    functions: &[Function58],
+) -> std::io::Result<()> {
+    write_functions_with(out, functions, &WriteOptions::default())
 }

@@ -1,0 +1,619 @@
+//! Dataset 58 (function at nodal DOF), ASCII and 58b binary.
+//!
+//! Records (after the number line):
+//! - 1–5 `80A1`: ID lines 1–4, record 5 often the date.
+//! - 6 `2(I5,I10),2(1X,10A1,I10,I4)`: function type, function id, version,
+//!   load case, response entity/node/direction, reference entity/node/direction.
+//! - 7 `3I10,3E13.5`: ordinate type (2 real single, 4 real double, 5 complex
+//!   single, 6 complex double), points, spacing (0 uneven, 1 even),
+//!   abscissa minimum, increment, z-axis value.
+//! - 8–11 `I10,3I5,2(1X,20A1)`: data type, length/force/temperature unit
+//!   exponents, label, units label of abscissa, numerator, denominator, z axis.
+//! - 12 data. ASCII: types 2/5 `6E13.5` (uneven: x,y or x,re,im in the same
+//!   fields); types 4/6 even `4E20.12`; type 4 uneven `2(E13.5,E20.12)`;
+//!   type 6 uneven `E13.5,2E20.12`. 58b: IEEE values in the byte order of the
+//!   header; an uneven abscissa has the ordinate's precision (pyuff) or single
+//!   precision (UFFFiles.jl), told apart by the byte count.
+
+use super::split::{Binary, Block};
+use super::text::{self, Lines};
+use super::{Abscissa, AxisCharacteristics, Function58, Ordinate, UffError};
+
+/// Record 7 of dataset 58.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Record7 {
+    pub ordinate_type: i32,
+    pub points: usize,
+    pub even: bool,
+    pub start: f64,
+    pub step: f64,
+    pub z_axis_value: f64,
+}
+
+impl Record7 {
+    pub fn is_complex(&self) -> bool {
+        matches!(self.ordinate_type, 5 | 6)
+    }
+    /// Bytes of one stored value: 4 (types 2, 5) or 8 (types 4, 6).
+    pub fn value_bytes(&self) -> usize {
+        if matches!(self.ordinate_type, 4 | 6) {
+            8
+        } else {
+            4
+        }
+    }
+    /// Stored values per point: ordinate (1 or 2) plus abscissa if uneven.
+    fn values_per_point(&self) -> usize {
+        usize::from(self.is_complex()) + 1 + usize::from(!self.even)
+    }
+    /// Fortran field widths of one ASCII data line, cycled across the line.
+    fn ascii_widths(&self) -> &'static [usize] {
+        match (self.value_bytes(), self.even, self.is_complex()) {
+            (4, _, _) => &[13],
+            (_, true, _) => &[20],
+            (_, false, false) => &[13, 20],
+            (_, false, true) => &[13, 20, 20],
+        }
+    }
+}
+
+/// Parses record 7 (`3I10,3E13.5`), by column or by whitespace.
+pub(crate) fn record7(line: &[u8]) -> Result<Record7, String> {
+    let by_columns = || -> Option<(Vec<i64>, [f64; 3])> {
+        let ints = [(0, 10), (10, 20), (20, 30)]
+            .iter()
+            .map(|&(s, e)| text::parse_int(text::column(line, s, e)))
+            .collect::<Option<Vec<i64>>>()?;
+        let mut reals = [0.0; 3];
+        for (k, (s, e)) in [(30, 43), (43, 56), (56, 69)].into_iter().enumerate() {
+            let f = text::column(line, s, e);
+            reals[k] = if text::trim(f).is_empty() {
+                0.0
+            } else {
+                text::parse_real(f)?
+            };
+        }
+        Some((ints, reals))
+    };
+    let by_tokens = || -> Option<(Vec<i64>, [f64; 3])> {
+        let toks: Vec<&[u8]> = text::tokens(line).collect();
+        if toks.len() < 3 || toks.len() > 6 {
+            return None;
+        }
+        let ints = toks[..3]
+            .iter()
+            .map(|t| text::parse_int(t))
+            .collect::<Option<Vec<i64>>>()?;
+        let mut reals = [0.0; 3];
+        for (k, t) in toks[3..].iter().enumerate() {
+            reals[k] = text::parse_real(t)?;
+        }
+        Some((ints, reals))
+    };
+    let Some((ints, reals)) = by_columns().or_else(by_tokens) else {
+        return Err(format!(
+            "expected ordinate type, points, spacing (3I10) and abscissa minimum, increment, z value (3E13.5), found '{}'",
+            text::excerpt(line)
+        ));
+    };
+    let ordinate_type = ints[0];
+    if !matches!(ordinate_type, 2 | 4 | 5 | 6) {
+        return Err(format!(
+            "ordinate type must be 2, 4, 5 or 6, found {ordinate_type}"
+        ));
+    }
+    let points = usize::try_from(ints[1])
+        .map_err(|_| format!("number of points must be >= 0, found {}", ints[1]))?;
+    let even = match ints[2] {
+        0 => false,
+        1 => true,
+        s => {
+            return Err(format!(
+                "abscissa spacing must be 0 (uneven) or 1 (even), found {s}"
+            ))
+        }
+    };
+    if let Some(v) = reals.iter().find(|v| !v.is_finite()) {
+        return Err(format!(
+            "abscissa minimum, increment and z value must be finite, found {v}"
+        ));
+    }
+    Ok(Record7 {
+        ordinate_type: ordinate_type as i32,
+        points,
+        even,
+        start: reals[0],
+        step: reals[1],
+        z_axis_value: reals[2],
+    })
+}
+
+struct Record6 {
+    function_type: i32,
+    function_id: i32,
+    version: i32,
+    load_case: i32,
+    response_entity: String,
+    response_node: i64,
+    response_direction: i32,
+    reference_entity: String,
+    reference_node: i64,
+    reference_direction: i32,
+}
+
+fn to_i32(v: i64, what: &str) -> Result<i32, String> {
+    i32::try_from(v).map_err(|_| format!("{what} {v} out of range"))
+}
+
+/// Parses record 6 (`2(I5,I10),2(1X,10A1,I10,I4)`): by column; by whitespace
+/// (10 tokens) when the columns do not hold integers.
+fn record6(line: &[u8]) -> Result<Record6, String> {
+    let int_columns = [
+        (0, 5),
+        (5, 15),
+        (15, 20),
+        (20, 30),
+        (41, 51),
+        (51, 55),
+        (66, 76),
+        (76, 80),
+    ];
+    let by_columns = int_columns
+        .iter()
+        .map(|&(s, e)| text::parse_int_or_zero(text::column(line, s, e)))
+        .collect::<Option<Vec<i64>>>()
+        .map(|v| {
+            (
+                v,
+                text::text_field(text::trim(text::column(line, 30, 41))),
+                text::text_field(text::trim(text::column(line, 55, 66))),
+            )
+        });
+    let by_tokens = || {
+        let toks: Vec<&[u8]> = text::tokens(line).collect();
+        if toks.len() != 10 {
+            return None;
+        }
+        let ints = [0, 1, 2, 3, 5, 6, 8, 9]
+            .iter()
+            .map(|&k| text::parse_int(toks[k]))
+            .collect::<Option<Vec<i64>>>()?;
+        Some((ints, text::decode(toks[4]), text::decode(toks[7])))
+    };
+    let Some((i, response_entity, reference_entity)) = by_columns.or_else(by_tokens) else {
+        return Err(format!(
+            "expected function type, id, version, load case, response entity/node/direction, reference entity/node/direction (2(I5,I10),2(1X,10A1,I10,I4)), found '{}'",
+            text::excerpt(line)
+        ));
+    };
+    Ok(Record6 {
+        function_type: to_i32(i[0], "function type")?,
+        function_id: to_i32(i[1], "function id")?,
+        version: to_i32(i[2], "version")?,
+        load_case: to_i32(i[3], "load case")?,
+        response_entity,
+        response_node: i[4],
+        response_direction: to_i32(i[5], "response direction")?,
+        reference_entity,
+        reference_node: i[6],
+        reference_direction: to_i32(i[7], "reference direction")?,
+    })
+}
+
+/// Parses records 8–11 (`I10,3I5,2(1X,20A1)`).
+pub(crate) fn axis_record(line: &[u8]) -> Result<AxisCharacteristics, String> {
+    let columns = [(0, 10), (10, 15), (15, 20), (20, 25)];
+    let by_columns = columns
+        .iter()
+        .map(|&(s, e)| text::parse_int_or_zero(text::column(line, s, e)))
+        .collect::<Option<Vec<i64>>>();
+    let (ints, label, units_label) = match by_columns {
+        Some(ints) => {
+            // Units label: the rest of the line, so multi-byte characters in the
+            // label do not cut it.
+            let label = text::text_field(text::trim(text::column(line, 26, 46)));
+            let units = text::text_field(text::trim(text::column_rest(line, 47)));
+            (ints, label, units)
+        }
+        None => {
+            // Whitespace-separated: 4 integers, then label and units label
+            // separated by a run of 2+ blanks.
+            let toks: Vec<&[u8]> = text::tokens(line).take(4).collect();
+            let ints = toks
+                .iter()
+                .map(|t| text::parse_int(t))
+                .collect::<Option<Vec<i64>>>();
+            let Some(ints) = ints.filter(|v| v.len() == 4) else {
+                return Err(format!(
+                    "expected data type and length, force, temperature exponents (I10,3I5) then labels, found '{}'",
+                    text::excerpt(line)
+                ));
+            };
+            let after = toks[3].as_ptr() as usize - line.as_ptr() as usize + toks[3].len();
+            let rest = text::trim(&line[after..]);
+            let cut = rest.windows(2).position(|w| w == b"  ");
+            let (label, units) = match cut {
+                Some(c) => (&rest[..c], text::trim(&rest[c..])),
+                None => (rest, &rest[rest.len()..]),
+            };
+            (ints, text::text_field(label), text::text_field(units))
+        }
+    };
+    Ok(AxisCharacteristics {
+        data_type: to_i32(ints[0], "data type")?,
+        length_exponent: to_i32(ints[1], "length exponent")?,
+        force_exponent: to_i32(ints[2], "force exponent")?,
+        temperature_exponent: to_i32(ints[3], "temperature exponent")?,
+        label,
+        units_label,
+    })
+}
+
+/// Error factory for one block.
+pub(crate) struct Context<'a> {
+    pub block: &'a Block,
+}
+
+impl Context<'_> {
+    pub fn error(&self, line: Option<usize>, offset: usize, message: String) -> UffError {
+        UffError {
+            line,
+            byte_offset: offset,
+            dataset_index: Some(self.block.index),
+            dataset_number: Some(self.block.number),
+            message,
+        }
+    }
+}
+
+/// Parses a 58 or 58b block.
+pub(crate) fn parse(
+    bytes: &[u8],
+    block: &Block,
+    notes: &mut Vec<String>,
+) -> Result<Function58, UffError> {
+    let cx = Context { block };
+    let mut lines = Lines::new(bytes, block.text.clone(), block.line + 1);
+    let mut header = Vec::with_capacity(11);
+    for k in 0..11 {
+        match lines.next() {
+            Some(l) => header.push(l),
+            None => {
+                return Err(cx.error(
+                    Some(block.close_line),
+                    block.close_offset,
+                    format!("dataset 58 ends after {k} of its 11 header records (records 1-11 expected before the data)"),
+                ))
+            }
+        }
+    }
+    let at = |k: usize, m: String| cx.error(Some(header[k].number), header[k].start, m);
+    let id_lines: [String; 5] = std::array::from_fn(|k| text::text_field(header[k].text));
+    let r6 = record6(header[5].text).map_err(|m| at(5, format!("record 6: {m}")))?;
+    let r7 = match &block.binary {
+        Some(b) => b.record7.clone(),
+        None => record7(header[6].text).map_err(|m| at(6, format!("record 7: {m}")))?,
+    };
+    let mut axes = Vec::with_capacity(4);
+    for k in 7..11 {
+        axes.push(
+            axis_record(header[k].text).map_err(|m| at(k, format!("record {}: {m}", k + 1)))?,
+        );
+    }
+    let [abscissa_axis, numerator_axis, denominator_axis, z_axis]: [AxisCharacteristics; 4] = axes
+        .try_into()
+        .map_err(|_| at(10, "records 8-11 missing".into()))?;
+
+    let sink = match &block.binary {
+        Some(b) => binary_data(bytes, b, &r7, &cx)?,
+        None => ascii_data(&mut lines, &r7, &cx, notes)?,
+    };
+    let (abscissa, ordinate) = sink.finish(&r7);
+    Ok(Function58 {
+        id_lines,
+        function_type: r6.function_type,
+        function_id: r6.function_id,
+        version: r6.version,
+        load_case: r6.load_case,
+        response_entity: r6.response_entity,
+        response_node: r6.response_node,
+        response_direction: r6.response_direction,
+        reference_entity: r6.reference_entity,
+        reference_node: r6.reference_node,
+        reference_direction: r6.reference_direction,
+        ordinate_type: r7.ordinate_type,
+        abscissa,
+        z_axis_value: r7.z_axis_value,
+        abscissa_axis,
+        numerator_axis,
+        denominator_axis,
+        z_axis,
+        ordinate,
+        binary: block.binary.is_some(),
+    })
+}
+
+/// Receives data values in file order and files them as abscissa / ordinate.
+struct Sink {
+    complex: bool,
+    even: bool,
+    phase: u8,
+    pending: f64,
+    x: Vec<f64>,
+    real: Vec<f64>,
+    pairs: Vec<(f64, f64)>,
+}
+
+impl Sink {
+    /// `capacity`: points to reserve (bounded by the input size by the caller).
+    fn new(r7: &Record7, capacity: usize) -> Self {
+        let complex = r7.is_complex();
+        Sink {
+            complex,
+            even: r7.even,
+            phase: 0,
+            pending: 0.0,
+            x: if r7.even {
+                Vec::new()
+            } else {
+                Vec::with_capacity(capacity)
+            },
+            real: if complex {
+                Vec::new()
+            } else {
+                Vec::with_capacity(capacity)
+            },
+            pairs: if complex {
+                Vec::with_capacity(capacity)
+            } else {
+                Vec::new()
+            },
+        }
+    }
+
+    #[inline]
+    fn push(&mut self, v: f64) {
+        if self.even {
+            if !self.complex {
+                self.real.push(v);
+            } else if self.phase == 0 {
+                self.pending = v;
+                self.phase = 1;
+            } else {
+                self.pairs.push((self.pending, v));
+                self.phase = 0;
+            }
+            return;
+        }
+        match self.phase {
+            0 => {
+                self.x.push(v);
+                self.phase = 1;
+            }
+            1 if !self.complex => {
+                self.real.push(v);
+                self.phase = 0;
+            }
+            1 => {
+                self.pending = v;
+                self.phase = 2;
+            }
+            _ => {
+                self.pairs.push((self.pending, v));
+                self.phase = 0;
+            }
+        }
+    }
+
+    fn finish(self, r7: &Record7) -> (Abscissa, Ordinate) {
+        let abscissa = if r7.even {
+            Abscissa::Even {
+                start: r7.start,
+                step: r7.step,
+            }
+        } else {
+            Abscissa::Uneven(self.x)
+        };
+        let ordinate = if self.complex {
+            Ordinate::Complex(self.pairs)
+        } else {
+            Ordinate::Real(self.real)
+        };
+        (abscissa, ordinate)
+    }
+}
+
+/// Reads the ASCII data lines (record 12) of a 58 block.
+fn ascii_data(
+    lines: &mut Lines<'_>,
+    r7: &Record7,
+    cx: &Context<'_>,
+    notes: &mut Vec<String>,
+) -> Result<Sink, UffError> {
+    let expected = r7
+        .points
+        .checked_mul(r7.values_per_point())
+        .ok_or_else(|| {
+            cx.error(
+                Some(cx.block.line + 7),
+                cx.block.start,
+                format!("record 7: {} points is too many", r7.points),
+            )
+        })?;
+    // Each value takes at least 2 bytes of text: never reserve more than the text holds.
+    let room = (cx.block.text.end - lines.pos.min(cx.block.text.end)) / 2 / r7.values_per_point();
+    let mut sink = Sink::new(r7, r7.points.min(room + 1));
+    let widths = r7.ascii_widths();
+    let mut buf: Vec<f64> = Vec::with_capacity(8);
+    let mut count = 0usize;
+    let mut padded: Option<(usize, usize)> = None;
+    for line in lines.by_ref() {
+        buf.clear();
+        if !text::reals_fixed(line.text, widths, &mut buf) {
+            buf.clear();
+            text::reals_tokens(line.text, &mut buf).map_err(|m| {
+                cx.error(
+                    Some(line.number),
+                    line.start,
+                    format!("data (record 12): {m}"),
+                )
+            })?;
+        }
+        if let Some((k, v)) = text::first_non_finite(&buf) {
+            return Err(cx.error(
+                Some(line.number),
+                line.start,
+                format!(
+                    "data (record 12): value {} of the line is {v}; expected a finite number",
+                    k + 1
+                ),
+            ));
+        }
+        let mut take = buf.len();
+        if count + buf.len() > expected {
+            // Some writers pad the last line with zeros beyond the declared points.
+            let room = expected - count;
+            if count == expected || buf[room..].iter().any(|&v| v != 0.0) {
+                return Err(cx.error(
+                    Some(line.number),
+                    line.start,
+                    format!(
+                        "data (record 12): more values than record 7 declares ({} points, {} values)",
+                        r7.points, expected
+                    ),
+                ));
+            }
+            padded = Some((line.number, buf.len() - room));
+            take = room;
+        }
+        count += take;
+        for &v in &buf[..take] {
+            sink.push(v);
+        }
+    }
+    if let Some((line, extra)) = padded {
+        notes.push(format!(
+            "line {line}: {extra} zero value(s) after the declared {} points ignored (padding)",
+            r7.points
+        ));
+    }
+    if count < expected {
+        return Err(cx.error(
+            Some(cx.block.close_line),
+            cx.block.close_offset,
+            format!(
+                "data (record 12): record 7 declares {} points ({expected} values) but the dataset holds {count} values",
+                r7.points
+            ),
+        ));
+    }
+    Ok(sink)
+}
+
+/// One stored binary value: size and byte order.
+trait Raw {
+    const SIZE: usize;
+    fn get(c: &[u8]) -> f64;
+}
+
+macro_rules! raw {
+    ($name:ident, $t:ty, $size:expr, $from:ident) => {
+        struct $name;
+        impl Raw for $name {
+            const SIZE: usize = $size;
+            #[inline(always)]
+            fn get(c: &[u8]) -> f64 {
+                let mut a = [0u8; $size];
+                a.copy_from_slice(&c[..$size]);
+                <$t>::$from(a) as f64
+            }
+        }
+    };
+}
+raw!(F32Le, f32, 4, from_le_bytes);
+raw!(F32Be, f32, 4, from_be_bytes);
+raw!(F64Le, f64, 8, from_le_bytes);
+raw!(F64Be, f64, 8, from_be_bytes);
+
+fn even_real<R: Raw>(data: &[u8]) -> Vec<f64> {
+    data.chunks_exact(R::SIZE).map(R::get).collect()
+}
+
+fn even_complex<R: Raw>(data: &[u8]) -> Vec<(f64, f64)> {
+    data.chunks_exact(2 * R::SIZE)
+        .map(|c| (R::get(c), R::get(&c[R::SIZE..])))
+        .collect()
+}
+
+fn uneven<X: Raw, R: Raw>(data: &[u8], complex: bool, sink: &mut Sink) {
+    let per_point = X::SIZE + R::SIZE * (1 + usize::from(complex));
+    let n = data.len() / per_point;
+    sink.x = Vec::with_capacity(n);
+    if complex {
+        sink.pairs = Vec::with_capacity(n);
+        for c in data.chunks_exact(per_point) {
+            sink.x.push(X::get(c));
+            sink.pairs
+                .push((R::get(&c[X::SIZE..]), R::get(&c[X::SIZE + R::SIZE..])));
+        }
+    } else {
+        sink.real = Vec::with_capacity(n);
+        for c in data.chunks_exact(per_point) {
+            sink.x.push(X::get(c));
+            sink.real.push(R::get(&c[X::SIZE..]));
+        }
+    }
+}
+
+fn decode<R: Raw, X: Raw>(data: &[u8], r7: &Record7, abscissa_bytes: usize, sink: &mut Sink) {
+    match (r7.even, r7.is_complex()) {
+        (true, false) => sink.real = even_real::<R>(data),
+        (true, true) => sink.pairs = even_complex::<R>(data),
+        (false, c) if abscissa_bytes == R::SIZE => uneven::<R, R>(data, c, sink),
+        (false, c) => uneven::<X, R>(data, c, sink),
+    }
+}
+
+/// Reads the binary data of a 58b block.
+fn binary_data(bytes: &[u8], b: &Binary, r7: &Record7, cx: &Context<'_>) -> Result<Sink, UffError> {
+    let data = &bytes[b.data.clone()];
+    let n = r7.points;
+    let mut sink = Sink::new(r7, 0);
+    match (r7.value_bytes(), b.little_endian) {
+        (4, true) => decode::<F32Le, F32Le>(data, r7, b.abscissa_bytes, &mut sink),
+        (4, false) => decode::<F32Be, F32Be>(data, r7, b.abscissa_bytes, &mut sink),
+        (_, true) => decode::<F64Le, F32Le>(data, r7, b.abscissa_bytes, &mut sink),
+        (_, false) => decode::<F64Be, F32Be>(data, r7, b.abscissa_bytes, &mut sink),
+    }
+    let bad = text::first_non_finite(&sink.x)
+        .map(|(i, v)| (i, v, "abscissa"))
+        .or_else(|| text::first_non_finite(&sink.real).map(|(i, v)| (i, v, "ordinate")))
+        .or_else(|| {
+            sink.pairs
+                .iter()
+                .position(|(re, im)| !re.is_finite() || !im.is_finite())
+                .map(|i| {
+                    (
+                        i,
+                        if sink.pairs[i].0.is_finite() {
+                            sink.pairs[i].1
+                        } else {
+                            sink.pairs[i].0
+                        },
+                        "ordinate",
+                    )
+                })
+        });
+    if let Some((i, v, what)) = bad {
+        let point_bytes = data.len() / n.max(1);
+        return Err(cx.error(
+            None,
+            b.data.start + i * point_bytes,
+            format!(
+                "58b data: {what} of point {} is {v}; expected a finite number",
+                i + 1
+            ),
+        ));
+    }
+    Ok(sink)
+}

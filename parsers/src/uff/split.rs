@@ -1,0 +1,402 @@
+//! Splitting a file into dataset blocks.
+//!
+//! A dataset is `    -1` (format `I6`), its number (`I6`, `58b` for binary
+//! 58), its records, and a closing `    -1`. A 58b dataset has a header line
+//! `I6,1A1,I6,I6,I12,I12,I6,I6,I12,I12` (number, `b`, byte order 1=little
+//! 2=big, floating point format 2=IEEE, ASCII line count (11), byte count, 4
+//! unused) and, after its 11 ASCII lines, exactly `byte count` bytes of data.
+//!
+//! Line numbers count line breaks in text parts; the binary data of a 58b
+//! dataset counts as one line.
+
+use std::ops::Range;
+
+use super::function58::{self, Record7};
+use super::text::{self, Line, Lines};
+use super::UffError;
+
+/// One dataset found in the file; no content parsed yet beyond what the
+/// split needs.
+#[derive(Clone, Debug)]
+pub(crate) struct Block {
+    pub index: usize,
+    pub number: u32,
+    /// Line and byte offset of the dataset number line.
+    pub line: usize,
+    pub start: usize,
+    /// The ASCII records after the number line: up to the closing `-1` (58b:
+    /// the ASCII header lines only).
+    pub text: Range<usize>,
+    /// Line and offset of the closing `-1`.
+    pub close_line: usize,
+    pub close_offset: usize,
+    pub binary: Option<Binary>,
+    /// Remarks made while splitting (repaired quirks).
+    pub notes: Vec<String>,
+}
+
+/// Where and how the data of a 58b dataset are stored.
+#[derive(Clone, Debug)]
+pub(crate) struct Binary {
+    pub little_endian: bool,
+    pub data: Range<usize>,
+    /// Bytes of one abscissa value of an uneven function (4 or 8).
+    pub abscissa_bytes: usize,
+    pub record7: Record7,
+}
+
+/// The blocks of a file and the remarks made while splitting.
+#[derive(Debug, Default)]
+pub(crate) struct Split {
+    pub blocks: Vec<Block>,
+    pub notes: Vec<String>,
+}
+
+fn error(
+    line: Option<usize>,
+    offset: usize,
+    index: Option<usize>,
+    number: Option<u32>,
+    message: String,
+) -> UffError {
+    UffError {
+        line,
+        byte_offset: offset,
+        dataset_index: index,
+        dataset_number: number,
+        message,
+    }
+}
+
+/// Dataset number of a number line (`    58`, `    58b`, `  2411`): number and
+/// whether the dataset is binary.
+fn dataset_number(text: &[u8]) -> Option<(u32, bool)> {
+    let first = text::tokens(text).next()?;
+    let (digits, binary) = match first.last() {
+        Some(b'b') | Some(b'B') => (&first[..first.len() - 1], true),
+        _ => (first, false),
+    };
+    let number = lexical_core::parse::<u32>(digits).ok()?;
+    Some((number, binary))
+}
+
+/// Splits `bytes` into dataset blocks.
+pub(crate) fn split(bytes: &[u8]) -> Result<Split, UffError> {
+    let mut out = Split::default();
+    let mut lines = Lines::new(bytes, 0..bytes.len(), 1);
+    let mut stray: Option<(usize, usize)> = None; // (first line, count) of text outside datasets
+    while let Some(line) = lines.next() {
+        if !text::is_delimiter(line.text) {
+            if !text::is_blank_line(line.text) {
+                stray = Some(stray.map_or((line.number, 1), |(l, c)| (l, c + 1)));
+            }
+            continue;
+        }
+        if let Some((first, count)) = stray.take() {
+            out.notes.push(format!(
+                "line {first}: {count} line(s) outside any dataset ignored"
+            ));
+        }
+        // Number line; extra `-1` lines in a row are tolerated.
+        let mut number_line = lines.next();
+        while let Some(l) = number_line.filter(|l| text::is_delimiter(l.text)) {
+            out.notes
+                .push(format!("line {}: repeated -1 delimiter ignored", l.number));
+            number_line = lines.next();
+        }
+        let index = out.blocks.len();
+        let Some(number_line) = number_line else {
+            out.notes.push(format!(
+                "line {}: file ends after a -1 delimiter",
+                line.number
+            ));
+            break;
+        };
+        let Some((number, binary)) = dataset_number(number_line.text) else {
+            return Err(error(
+                Some(number_line.number),
+                number_line.start,
+                Some(index),
+                None,
+                format!(
+                    "expected a dataset number (format I6) after the -1 delimiter, found '{}'",
+                    text::excerpt(number_line.text)
+                ),
+            ));
+        };
+        let block = if binary {
+            binary_block(bytes, &mut lines, number_line, index, number)?
+        } else {
+            text_block(&mut lines, number_line, index, number)?
+        };
+        out.blocks.push(block);
+    }
+    if let Some((first, count)) = stray {
+        out.notes.push(format!(
+            "line {first}: {count} line(s) outside any dataset ignored"
+        ));
+    }
+    if out.blocks.is_empty() {
+        return Err(error(
+            None,
+            0,
+            None,
+            None,
+            "no UFF dataset found: expected a '    -1' line followed by a dataset number".into(),
+        ));
+    }
+    Ok(out)
+}
+
+/// An ASCII dataset: every line up to the closing `-1`.
+fn text_block(
+    lines: &mut Lines<'_>,
+    number_line: Line<'_>,
+    index: usize,
+    number: u32,
+) -> Result<Block, UffError> {
+    let text_start = lines.pos;
+    for line in lines.by_ref() {
+        if text::is_delimiter(line.text) {
+            return Ok(Block {
+                index,
+                number,
+                line: number_line.number,
+                start: number_line.start,
+                text: text_start..line.start,
+                close_line: line.number,
+                close_offset: line.start,
+                binary: None,
+                notes: Vec::new(),
+            });
+        }
+    }
+    Err(error(
+        Some(lines.number.saturating_sub(1).max(number_line.number)),
+        lines.pos,
+        Some(index),
+        Some(number),
+        format!(
+            "file ends inside dataset {number} that starts at line {}: expected a closing '    -1' line (truncated file?)",
+            number_line.number
+        ),
+    ))
+}
+
+/// Byte counts of the data of a 58b function, most likely first:
+/// (bytes, abscissa bytes per point).
+fn binary_layouts(r7: &Record7) -> Vec<(Option<usize>, usize)> {
+    let value = r7.value_bytes();
+    let per_point = if r7.is_complex() { 2 * value } else { value };
+    let n = r7.points;
+    if r7.even {
+        vec![(n.checked_mul(per_point), value)]
+    } else if value == 8 {
+        // Same precision as the ordinate (pyuff), or single-precision abscissa
+        // (UFFFiles.jl and the standard's E13.5 abscissa of ASCII 58).
+        vec![
+            (n.checked_mul(per_point + 8), 8),
+            (n.checked_mul(per_point + 4), 4),
+        ]
+    } else {
+        vec![(n.checked_mul(per_point + 4), 4)]
+    }
+}
+
+/// After 58b data at `pos`: the closing `-1`, after optional blanks and line
+/// breaks. Returns (offset of the `-1` line, position after it, line breaks
+/// skipped before it).
+fn closing_after(bytes: &[u8], pos: usize) -> Option<(usize, usize, usize)> {
+    let mut p = pos;
+    let mut breaks = 0;
+    let mut line_start = pos;
+    while p < bytes.len() && matches!(bytes[p], b' ' | b'\t' | b'\r' | b'\n') {
+        if bytes[p] == b'\n' {
+            breaks += 1;
+            line_start = p + 1;
+        }
+        p += 1;
+    }
+    if !bytes[p.min(bytes.len())..].starts_with(b"-1") {
+        return None;
+    }
+    p += 2;
+    while p < bytes.len() && bytes[p] != b'\n' {
+        if !matches!(bytes[p], b' ' | b'\t' | b'\r') {
+            return None;
+        }
+        p += 1;
+    }
+    Some((line_start, (p + 1).min(bytes.len()), breaks))
+}
+
+/// A 58b dataset: header fields, ASCII records, then the binary data.
+fn binary_block(
+    bytes: &[u8],
+    lines: &mut Lines<'_>,
+    number_line: Line<'_>,
+    index: usize,
+    number: u32,
+) -> Result<Block, UffError> {
+    let err = |line: Option<usize>, offset: usize, message: String| {
+        error(line, offset, Some(index), Some(number), message)
+    };
+    if number != 58 {
+        return Err(err(
+            Some(number_line.number),
+            number_line.start,
+            format!("binary form 'b' is only defined for dataset 58, found {number}b"),
+        ));
+    }
+    // Header fields after `58b`, separated by blanks (widths vary between writers).
+    let fields: Option<Vec<i64>> = text::tokens(number_line.text)
+        .skip(1)
+        .take(4)
+        .map(text::parse_int)
+        .collect();
+    let header = match fields {
+        Some(f) if f.len() == 4 => f,
+        _ => {
+            return Err(err(
+                Some(number_line.number),
+                number_line.start,
+                format!(
+                    "58b header (format I6,1A1,I6,I6,I12,I12,...): expected byte order, floating point format, ASCII line count and byte count, found '{}'",
+                    text::excerpt(number_line.text)
+                ),
+            ))
+        }
+    };
+    let (byte_order, fp_format, ascii_lines, declared) =
+        (header[0], header[1], header[2], header[3]);
+    let little_endian = match byte_order {
+        1 => true,
+        2 => false,
+        _ => {
+            return Err(err(
+                Some(number_line.number),
+                number_line.start,
+                format!(
+                "58b byte order must be 1 (little-endian) or 2 (big-endian), found {byte_order}"
+            ),
+            ))
+        }
+    };
+    if fp_format != 2 {
+        return Err(err(
+            Some(number_line.number),
+            number_line.start,
+            format!("58b floating point format must be 2 (IEEE 754), found {fp_format}"),
+        ));
+    }
+    if !(11..=1000).contains(&ascii_lines) {
+        return Err(err(
+            Some(number_line.number),
+            number_line.start,
+            format!("58b ASCII line count must be 11 (records 1-11), found {ascii_lines}"),
+        ));
+    }
+    let text_start = lines.pos;
+    let mut record7: Option<Record7> = None;
+    for k in 0..ascii_lines as usize {
+        let Some(line) = lines.next() else {
+            return Err(err(
+                Some(lines.number),
+                lines.pos,
+                format!(
+                    "file ends in the ASCII header of 58b: expected {ascii_lines} lines, found {k}"
+                ),
+            ));
+        };
+        if k == 6 {
+            record7 = Some(
+                function58::record7(line.text)
+                    .map_err(|m| err(Some(line.number), line.start, format!("record 7: {m}")))?,
+            );
+        }
+    }
+    let text_end = lines.pos;
+    let data_line = lines.number;
+    let Some(record7) = record7 else {
+        return Err(err(
+            Some(data_line),
+            text_end,
+            "58b header has no record 7".into(),
+        ));
+    };
+    let data_start = lines.pos;
+    let available = bytes.len() - data_start;
+    let layouts = binary_layouts(&record7);
+    let declared_ok = usize::try_from(declared).ok();
+    let matches_declared = layouts
+        .iter()
+        .find(|(b, _)| b.is_some() && *b == declared_ok);
+    let mut chosen: Option<(usize, usize, (usize, usize, usize))> = None;
+    let mut note = None;
+    if let Some(&(Some(len), abscissa)) = matches_declared {
+        if len <= available {
+            if let Some(close) = closing_after(bytes, data_start + len) {
+                chosen = Some((len, abscissa, close));
+            }
+        }
+    }
+    if chosen.is_none() {
+        // Declared byte count inconsistent with record 7 (pyuff writes n*8 for
+        // complex data): accept the length record 7 implies if a `-1` follows it.
+        for &(len, abscissa) in &layouts {
+            let Some(len) = len.filter(|&l| l <= available) else {
+                continue;
+            };
+            if let Some(close) = closing_after(bytes, data_start + len) {
+                note = Some(format!(
+                    "line {data_line}: 58b header declares {declared} bytes, but record 7 ({} points, ordinate type {}) implies {len}; read {len}",
+                    record7.points, record7.ordinate_type
+                ));
+                chosen = Some((len, abscissa, close));
+                break;
+            }
+        }
+    }
+    let Some((len, abscissa_bytes, (close_offset, after, breaks))) = chosen else {
+        let expected: Vec<String> = layouts
+            .iter()
+            .filter_map(|(b, _)| b.map(|b| b.to_string()))
+            .collect();
+        let message = if declared_ok.is_some_and(|d| d > available)
+            || layouts.iter().all(|(b, _)| b.is_none_or(|b| b > available))
+        {
+            format!(
+                "58b data truncated: header declares {declared} bytes and record 7 ({} points, ordinate type {}) needs {} bytes, but only {available} bytes follow",
+                record7.points,
+                record7.ordinate_type,
+                expected.join(" or ")
+            )
+        } else {
+            format!(
+                "wrong byte count in 58b: header declares {declared} bytes, record 7 ({} points, ordinate type {}) needs {} bytes, and no closing -1 follows either",
+                record7.points,
+                record7.ordinate_type,
+                expected.join(" or ")
+            )
+        };
+        return Err(err(Some(data_line), data_start, message));
+    };
+    lines.pos = after;
+    lines.number = data_line + breaks + 1;
+    Ok(Block {
+        index,
+        number,
+        line: number_line.number,
+        start: number_line.start,
+        text: text_start..text_end,
+        close_line: data_line + breaks,
+        close_offset,
+        binary: Some(Binary {
+            little_endian,
+            data: data_start..data_start + len,
+            abscissa_bytes,
+            record7,
+        }),
+        notes: note.into_iter().collect(),
+    })
+}
