@@ -101,11 +101,11 @@ for k in range(15):
 w("# wing-body connection: steel fixture from the fuselage axis up to the wing axis")
 add("wing_body", beam(7, 100, "steel", "joint", "wing_body"))
 w("# left wing: root element (connection) then 9 elements")
-add("left_root", beam(100, 101, "alu", "wing", "left_root"))
+add("left_root", beam(100, 101, "steel", "joint", "left_root"))
 for k in range(9):
     add("left_wing", beam(101 + k, 102 + k, "alu", "wing", "left_wing"))
 w("# right wing")
-add("right_root", beam(100, 201, "alu", "wing", "right_root"))
+add("right_root", beam(100, 201, "steel", "joint", "right_root"))
 for k in range(9):
     add("right_wing", beam(201 + k, 202 + k, "alu", "wing", "right_wing"))
 w("# wing tip to drum: short stiff links")
@@ -124,15 +124,13 @@ add("fin_tailplane", beam(304, 403, "steel", "joint", "fin_tailplane"))
 for k in range(4):
     add("tailplane", beam(401 + k, 402 + k, "alu", "tailplane", "tailplane"))
 
-w("# added masses (FACTS.md): 0.2 kg at each drum tip, 0.5 kg fin/tailplane joint,")
+w("# added masses (FACTS.md): 0.2 kg at the rear tip of each drum, 0.5 kg fin/tailplane joint,")
 w("# steel wing-body fixture 1.14 kg, tail fixture 0.35 kg")
-w("mass 1 111 m=0.2")
-w("mass 2 115 m=0.2")
-w("mass 3 211 m=0.2")
-w("mass 4 215 m=0.2")
-w("mass 5 403 m=0.5 Ixx=1e-4 Iyy=1e-4 Izz=1e-4")
-w("mass 6 100 m=1.14 Ixx=2e-3 Iyy=2e-3 Izz=2e-3")
-w("mass 7 15 m=0.35")
+w("mass 1 115 m=0.2")
+w("mass 2 215 m=0.2")
+w("mass 3 403 m=0.5 Ixx=1e-4 Iyy=1e-4 Izz=1e-4")
+w("mass 4 100 m=1.14 Ixx=2e-3 Iyy=2e-3 Izz=2e-3")
+w("mass 5 15 m=0.35")
 
 
 def ids(lst):
