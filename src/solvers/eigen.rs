@@ -1,6 +1,20 @@
 //! Lowest modes of K φ = ω² M φ, mass-normalised.
+//!
+//! Both paths work on the shifted pencil: with a shift σ < 0, K − σM = L Lᵀ is
+//! positive definite even for free-free models, and the symmetric standard
+//! problem L⁻¹ M L⁻ᵀ y = μ y has μ = 1/(ω² − σ): the largest μ give the lowest
+//! ω², and φ = L⁻ᵀ y. Small models ([`dense`]) reduce and solve it densely;
+//! large ones ([`lanczos`]) run a block Krylov method on a sparse supernodal
+//! Cholesky factor. Every returned ω² is the Rayleigh quotient φᵀKφ of the
+//! mass-normalised φ, which is accurate to O(ε) even for the lowest modes.
+
+pub mod dense;
+pub mod lanczos;
+
+use faer::Mat;
 
 use crate::model::SparseMatrix;
+use crate::solvers::sparse_ops;
 
 /// CONTRACT. Modes in ascending frequency order.
 #[derive(Clone, Debug)]
@@ -57,6 +71,8 @@ pub enum EigenError {
     MassNotPositive { detail: String },
     /// The iteration did not converge.
     NoConvergence { detail: String },
+    /// K and M are not a usable pencil (shapes, non-finite entries, negative stiffness).
+    InvalidInput { detail: String },
 }
 
 impl std::fmt::Display for EigenError {
@@ -72,18 +88,232 @@ impl std::fmt::Display for EigenError {
             EigenError::NoConvergence { detail } => {
                 write!(f, "eigen solver did not converge: {detail}")
             }
+            EigenError::InvalidInput { detail } => {
+                write!(f, "invalid stiffness/mass matrices: {detail}")
+            }
         }
     }
 }
 
 impl std::error::Error for EigenError {}
 
+/// Tuning knobs of [`lowest_modes_with`]; [`Default`] suits FE beam models.
+#[derive(Clone, Debug)]
+pub struct EigenTuning {
+    /// Shift σ (rad²/s², must be < 0) instead of the automatic choice
+    /// (dense: σ = −1e-4·s̃, sparse: σ = −1e-8·s_max, where s̃ and s_max are the
+    /// median and largest K_ii/M_ii).
+    pub shift: Option<f64>,
+    /// Modes with ω² < `zero_energy_tolerance` · s_max are zero-energy modes
+    /// (rigid-body modes or mechanisms).
+    pub zero_energy_tolerance: f64,
+    /// Sparse path: a Ritz pair (μ, y) is converged when ‖C y − μ y‖ ≤ tol · μ.
+    pub tolerance: f64,
+    /// Sparse path: block size of the Krylov method (vectors per operator application).
+    pub block_size: usize,
+    /// Sparse path: largest Krylov basis (0 = automatic, about 2·count + 4·block).
+    pub max_basis: usize,
+    /// Sparse path: restarts before giving up.
+    pub max_restarts: usize,
+}
+
+impl Default for EigenTuning {
+    fn default() -> Self {
+        EigenTuning {
+            shift: None,
+            zero_energy_tolerance: 1e-10,
+            tolerance: 1e-9,
+            block_size: 8,
+            max_basis: 0,
+            max_restarts: 300,
+        }
+    }
+}
+
+/// Which algorithm produced the modes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EigenPath {
+    Dense,
+    Sparse,
+}
+
+/// What [`lowest_modes_with`] did, for logs and benchmarks.
+#[derive(Clone, Debug)]
+pub struct EigenReport {
+    pub path: EigenPath,
+    /// The shift σ used (rad²/s², negative).
+    pub shift: f64,
+    /// Largest K_ii/M_ii (rad²/s²): the stiffness scale of the tolerances.
+    pub stiffness_scale: f64,
+    /// Number of returned modes with ω² below the zero-energy tolerance.
+    pub zero_energy_modes: usize,
+    /// Largest ‖Kφ − ω²Mφ‖ / (s_max ‖Mφ‖) over the returned modes.
+    pub max_residual: f64,
+    /// Sparse path: vectors the operator (K − σM)⁻¹M was applied to.
+    pub operator_applications: usize,
+    /// Sparse path: restarts of the Krylov method.
+    pub restarts: usize,
+    /// Sparse path: nonzeros of the Cholesky factor.
+    pub factor_nonzeros: usize,
+}
+
 /// CONTRACT. The `opts.count` lowest modes of (K, M).
+///
+/// Errors instead of panics: shape/finiteness problems → `InvalidInput`, a
+/// non-positive M_ii → `MassNotPositive`, zero-energy modes of a fixed model →
+/// `Mechanisms`.
 pub fn lowest_modes(
     k: &SparseMatrix,
     m: &SparseMatrix,
     opts: &EigenOptions,
 ) -> Result<Modes, EigenError> {
-    let _ = (k, m, opts);
-    todo!("solvers helper implements this")
+    lowest_modes_with(k, m, opts, &EigenTuning::default()).map(|(modes, _)| modes)
+}
+
+/// Scales of the pencil from its diagonals.
+pub(crate) struct PencilScale {
+    /// Largest K_ii/M_ii.
+    pub max_ratio: f64,
+    /// Median K_ii/M_ii.
+    pub median_ratio: f64,
+}
+
+/// Checks shapes, finiteness and diagonals; returns the K/M diagonal ratios' scales.
+pub(crate) fn pencil_scale(k: &SparseMatrix, m: &SparseMatrix) -> Result<PencilScale, EigenError> {
+    sparse_ops::check_pair(k, m).map_err(|detail| EigenError::InvalidInput { detail })?;
+    let dk = sparse_ops::diagonal(k);
+    let dm = sparse_ops::diagonal(m);
+    if let Some((i, v)) = dm.iter().enumerate().find(|(_, v)| **v <= 0.0) {
+        return Err(EigenError::MassNotPositive {
+            detail: format!("M[{i},{i}] = {v} at equation {i} (a DOF without mass?)"),
+        });
+    }
+    if let Some((i, v)) = dk.iter().enumerate().find(|(_, v)| **v < 0.0) {
+        return Err(EigenError::InvalidInput {
+            detail: format!("K[{i},{i}] = {v} is negative"),
+        });
+    }
+    let mut ratios: Vec<f64> = dk.iter().zip(&dm).map(|(k, m)| k / m).collect();
+    ratios.sort_by(f64::total_cmp);
+    let max_ratio = ratios.last().copied().unwrap_or(0.0);
+    let positive: Vec<f64> = ratios.iter().copied().filter(|r| *r > 0.0).collect();
+    let median_ratio = positive.get(positive.len() / 2).copied().unwrap_or(0.0);
+    // A zero K gives only rigid-body modes; any positive scale then works.
+    let max_ratio = if max_ratio > 0.0 { max_ratio } else { 1.0 };
+    let median_ratio = if median_ratio > 0.0 {
+        median_ratio
+    } else {
+        max_ratio
+    };
+    Ok(PencilScale {
+        max_ratio,
+        median_ratio,
+    })
+}
+
+/// The lowest modes with explicit tuning, and a report of what was done.
+pub fn lowest_modes_with(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    opts: &EigenOptions,
+    tuning: &EigenTuning,
+) -> Result<(Modes, EigenReport), EigenError> {
+    let scale = pencil_scale(k, m)?;
+    let n = k.nrows();
+    let count = opts.count.min(n);
+    if let Some(s) = tuning.shift {
+        if !(s < 0.0 && s.is_finite()) {
+            return Err(EigenError::InvalidInput {
+                detail: format!("shift σ = {s} must be negative and finite"),
+            });
+        }
+    }
+    let mut report = EigenReport {
+        path: if n <= opts.dense_limit {
+            EigenPath::Dense
+        } else {
+            EigenPath::Sparse
+        },
+        shift: 0.0,
+        stiffness_scale: scale.max_ratio,
+        zero_energy_modes: 0,
+        max_residual: 0.0,
+        operator_applications: 0,
+        restarts: 0,
+        factor_nonzeros: 0,
+    };
+    if count == 0 {
+        return Ok((
+            Modes {
+                omega2: Vec::new(),
+                shapes: Mat::zeros(n, 0),
+            },
+            report,
+        ));
+    }
+    let shapes = match report.path {
+        EigenPath::Dense => {
+            let shift = tuning.shift.unwrap_or(-1e-4 * scale.median_ratio);
+            let (phi, used) = dense::shift_invert(k, m, count, shift)?;
+            report.shift = used;
+            phi
+        }
+        EigenPath::Sparse => {
+            let shift = tuning.shift.unwrap_or(-1e-8 * scale.max_ratio);
+            let out = lanczos::shift_invert(k, m, count, shift, tuning)?;
+            report.shift = out.shift;
+            report.operator_applications = out.operator_applications;
+            report.restarts = out.restarts;
+            report.factor_nonzeros = out.factor_nonzeros;
+            out.vectors
+        }
+    };
+    let modes = finish(k, m, shapes, &scale, &mut report);
+    let zero = tuning.zero_energy_tolerance * scale.max_ratio;
+    report.zero_energy_modes = modes.omega2.iter().filter(|w2| **w2 < zero).count();
+    if opts.expect_no_rigid_body_modes && report.zero_energy_modes > 0 {
+        return Err(EigenError::Mechanisms {
+            count: report.zero_energy_modes,
+        });
+    }
+    Ok((modes, report))
+}
+
+/// Mass-normalises Φ, sets ω² to the Rayleigh quotients, sorts ascending, and
+/// records the largest residual ‖Kφ − ω²Mφ‖ / (s_max ‖Mφ‖).
+fn finish(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    mut phi: Mat<f64>,
+    scale: &PencilScale,
+    report: &mut EigenReport,
+) -> Modes {
+    let mphi = sparse_ops::sp_mul(m, phi.as_ref());
+    let norms = sparse_ops::col_dots(phi.as_ref(), mphi.as_ref());
+    let mut mphi = mphi;
+    for (j, nj) in norms.iter().enumerate() {
+        let f = 1.0 / nj.max(f64::MIN_POSITIVE).sqrt();
+        phi.col_mut(j).iter_mut().for_each(|v| *v *= f);
+        mphi.col_mut(j).iter_mut().for_each(|v| *v *= f);
+    }
+    let kphi = sparse_ops::sp_mul(k, phi.as_ref());
+    let omega2 = sparse_ops::col_dots(phi.as_ref(), kphi.as_ref());
+    let mut max_residual = 0.0f64;
+    for (j, w2) in omega2.iter().enumerate() {
+        let (mut r2, mut m2) = (0.0, 0.0);
+        for (kv, mv) in kphi.col(j).iter().zip(mphi.col(j).iter()) {
+            r2 += (kv - w2 * mv).powi(2);
+            m2 += mv * mv;
+        }
+        max_residual =
+            max_residual.max(r2.sqrt() / (scale.max_ratio * m2.sqrt().max(f64::MIN_POSITIVE)));
+    }
+    report.max_residual = max_residual;
+    let mut order: Vec<usize> = (0..omega2.len()).collect();
+    order.sort_by(|a, b| omega2[*a].total_cmp(&omega2[*b]));
+    let shapes = Mat::from_fn(phi.nrows(), order.len(), |i, j| phi[(i, order[j])]);
+    Modes {
+        omega2: order.iter().map(|&j| omega2[j]).collect(),
+        shapes,
+    }
 }

@@ -6,3 +6,4 @@
 
 pub mod eigen;
 pub mod frf;
+pub(crate) mod sparse_ops;

@@ -1,0 +1,487 @@
+//! Sparse shift-and-invert block Lanczos with full reorthogonalisation and
+//! thick restarts.
+//!
+//! P (K − σM) Pᵀ = L Lᵀ (supernodal Cholesky, AMD ordering P, σ < 0). The
+//! operator C = L⁻¹ P M Pᵀ L⁻ᵀ is symmetric in the Euclidean inner product,
+//! so a plain block Lanczos on it needs neither M-inner products nor a factor
+//! of M. Its eigenvalues are μ = 1/(ω² − σ), eigenvectors y = Lᵀ P φ.
+//!
+//! The basis V (orthonormal, two-pass block Gram–Schmidt) is kept and
+//! T = Vᵀ C V is updated one block at a time. Ritz pairs (θ, V s) have
+//! residual ‖R s_last‖, R the triangular factor of the orthogonalised newest
+//! block, so convergence checks are cheap. When the basis is full it restarts
+//! from the leading Ritz vectors (thick restart), keeping the Krylov relation.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
+use faer::linalg::matmul::matmul;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
+    SymmetricOrdering,
+};
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
+
+use super::{EigenError, EigenTuning};
+use crate::model::SparseMatrix;
+use crate::solvers::sparse_ops::{par, sp_mul, PairPattern};
+
+/// P(K − σM)Pᵀ = L Lᵀ with access to the separate triangular solves.
+pub struct ShiftedCholesky {
+    symbolic: SymbolicCholesky<usize>,
+    values: Vec<f64>,
+    /// (P v)_i = v_{fwd[i]}.
+    fwd: Vec<usize>,
+    /// The shift σ (rad²/s²).
+    pub shift: f64,
+}
+
+impl ShiftedCholesky {
+    /// Factors K − σM, retrying with 100σ (up to five times) if it is not
+    /// numerically positive definite.
+    pub fn new(k: &SparseMatrix, m: &SparseMatrix, shift: f64) -> Result<Self, EigenError> {
+        let pattern =
+            PairPattern::new(k, m).map_err(|detail| EigenError::InvalidInput { detail })?;
+        let symbolic = factorize_symbolic_cholesky(
+            pattern.symbolic().as_ref(),
+            Side::Lower,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams {
+                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| EigenError::InvalidInput {
+            detail: format!("symbolic Cholesky: {e:?}"),
+        })?;
+        let n = k.nrows();
+        let fwd = match symbolic.perm() {
+            Some(p) => p.arrays().0.to_vec(),
+            None => (0..n).collect(),
+        };
+        let par = par();
+        let mut values = vec![0.0; symbolic.len_val()];
+        let mut sigma = shift;
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+        for _ in 0..6 {
+            let a = pattern.combine(1.0, -sigma);
+            let res = symbolic.factorize_numeric_llt(
+                &mut values,
+                a.as_ref(),
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            );
+            match res {
+                Ok(_) => {
+                    return Ok(ShiftedCholesky {
+                        symbolic,
+                        values,
+                        fwd,
+                        shift: sigma,
+                    })
+                }
+                Err(_) => sigma *= 100.0,
+            }
+        }
+        Err(EigenError::InvalidInput {
+            detail: format!(
+                "K − σM is not positive definite even for σ = {sigma:e}: K has negative eigenvalues"
+            ),
+        })
+    }
+
+    /// Nonzeros stored in L.
+    pub fn factor_nonzeros(&self) -> usize {
+        self.values.len()
+    }
+
+    fn supernodal(&self) -> SupernodalLltRef<'_, usize, f64> {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => SupernodalLltRef::new(s, &self.values),
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("supernodal factorisation forced"),
+        }
+    }
+
+    fn solve_scratch(&self, ncols: usize) -> MemBuffer {
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                MemBuffer::new(s.solve_in_place_scratch::<f64>(ncols, par()))
+            }
+            SymbolicCholeskyRaw::Simplicial(_) => unreachable!("supernodal factorisation forced"),
+        }
+    }
+
+    /// out = C y = L⁻¹ P M Pᵀ L⁻ᵀ y.
+    pub fn apply(&self, m: &SparseMatrix, y: MatRef<'_, f64>) -> Mat<f64> {
+        let par = par();
+        let mut mem = self.solve_scratch(y.ncols());
+        let l = self.supernodal();
+        let mut z = y.to_owned();
+        l.l_transpose_solve_with_conj(Conj::No, z.as_mut(), par, MemStack::new(&mut mem));
+        let u = self.unpermute(z.as_ref());
+        let v = sp_mul(m, u.as_ref());
+        let mut w = self.permute(v.as_ref());
+        l.l_solve_with_conj(Conj::No, w.as_mut(), par, MemStack::new(&mut mem));
+        w
+    }
+
+    /// φ = Pᵀ L⁻ᵀ y.
+    pub fn back_transform(&self, y: MatRef<'_, f64>) -> Mat<f64> {
+        let mut mem = self.solve_scratch(y.ncols());
+        let mut z = y.to_owned();
+        self.supernodal().l_transpose_solve_with_conj(
+            Conj::No,
+            z.as_mut(),
+            par(),
+            MemStack::new(&mut mem),
+        );
+        self.unpermute(z.as_ref())
+    }
+
+    /// x = (K − σM)⁻¹ b.
+    pub fn solve(&self, b: MatRef<'_, f64>) -> Mat<f64> {
+        let mut mem = self.solve_scratch(b.ncols());
+        let l = self.supernodal();
+        let mut w = self.permute(b);
+        l.l_solve_with_conj(Conj::No, w.as_mut(), par(), MemStack::new(&mut mem));
+        l.l_transpose_solve_with_conj(Conj::No, w.as_mut(), par(), MemStack::new(&mut mem));
+        self.unpermute(w.as_ref())
+    }
+
+    fn permute(&self, v: MatRef<'_, f64>) -> Mat<f64> {
+        Mat::from_fn(v.nrows(), v.ncols(), |i, j| v[(self.fwd[i], j)])
+    }
+
+    fn unpermute(&self, z: MatRef<'_, f64>) -> Mat<f64> {
+        let mut u = Mat::<f64>::zeros(z.nrows(), z.ncols());
+        for j in 0..z.ncols() {
+            for (i, &f) in self.fwd.iter().enumerate() {
+                u[(f, j)] = z[(i, j)];
+            }
+        }
+        u
+    }
+}
+
+/// Result of [`shift_invert`].
+pub struct SparseOutcome {
+    /// The lowest modes' shapes (unnormalised), n × count.
+    pub vectors: Mat<f64>,
+    pub shift: f64,
+    pub operator_applications: usize,
+    pub restarts: usize,
+    pub factor_nonzeros: usize,
+}
+
+/// The `count` lowest modes of (K, M) by shift-invert block Lanczos.
+pub fn shift_invert(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    count: usize,
+    shift: f64,
+    tuning: &EigenTuning,
+) -> Result<SparseOutcome, EigenError> {
+    let chol = ShiftedCholesky::new(k, m, shift)?;
+    let op = |y: MatRef<'_, f64>| chol.apply(m, y);
+    let out = block_lanczos(&op, k.nrows(), count, tuning)?;
+    Ok(SparseOutcome {
+        vectors: chol.back_transform(out.vectors.as_ref()),
+        shift: chol.shift,
+        operator_applications: out.applications,
+        restarts: out.restarts,
+        factor_nonzeros: chol.factor_nonzeros(),
+    })
+}
+
+/// Largest eigenpairs of a symmetric operator.
+pub struct LanczosOutcome {
+    /// Eigenvalues, descending.
+    pub values: Vec<f64>,
+    /// Orthonormal eigenvectors, n × count.
+    pub vectors: Mat<f64>,
+    pub applications: usize,
+    pub restarts: usize,
+}
+
+/// Deterministic pseudo-random numbers in (−1, 1) (xorshift64*).
+struct Xorshift(u64);
+
+impl Xorshift {
+    fn next(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let r = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (r >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+}
+
+/// Orthonormalises the columns of `z` against `v` (two passes) and among
+/// themselves (modified Gram–Schmidt, twice). Columns that vanish are replaced
+/// by pseudo-random vectors. Returns R with z_in ⊥ v = z_out R.
+fn orthonormalise(v: MatRef<'_, f64>, mut z: MatMut<'_, f64>, rng: &mut Xorshift) -> Mat<f64> {
+    let par = par();
+    let b = z.ncols();
+    let n = z.nrows();
+    let mut r = Mat::<f64>::zeros(b, b);
+    let project = |mut z: MatMut<'_, f64>, par: Par| {
+        if v.ncols() == 0 {
+            return;
+        }
+        for _ in 0..2 {
+            let mut h = Mat::<f64>::zeros(v.ncols(), z.ncols());
+            matmul(h.as_mut(), Accum::Replace, v.transpose(), z.rb(), 1.0, par);
+            matmul(z.rb_mut(), Accum::Add, v, h.as_ref(), -1.0, par);
+        }
+    };
+    project(z.rb_mut(), par);
+    for j in 0..b {
+        let before = z.rb().col(j).norm_l2();
+        for _ in 0..2 {
+            for i in 0..j {
+                let d: f64 = z
+                    .rb()
+                    .col(i)
+                    .iter()
+                    .zip(z.rb().col(j).iter())
+                    .map(|(a, b)| a * b)
+                    .sum();
+                r[(i, j)] += d;
+                let (zi, zj) = z.rb_mut().two_cols_mut(i, j);
+                zj.iter_mut().zip(zi.iter()).for_each(|(y, x)| *y -= d * x);
+            }
+        }
+        let mut norm = z.rb().col(j).norm_l2();
+        if !(norm > 1e-10 * before) || norm == 0.0 {
+            // Breakdown: the new direction is (numerically) in span(V, z_<j).
+            r[(j, j)] = 0.0;
+            for _ in 0..3 {
+                let mut fresh = Mat::from_fn(n, 1, |_, _| rng.next());
+                project(fresh.as_mut(), par);
+                for i in 0..j {
+                    let d: f64 = z
+                        .rb()
+                        .col(i)
+                        .iter()
+                        .zip(fresh.col(0).iter())
+                        .map(|(a, b)| a * b)
+                        .sum();
+                    fresh
+                        .col_mut(0)
+                        .iter_mut()
+                        .zip(z.rb().col(i).iter())
+                        .for_each(|(y, x)| *y -= d * x);
+                }
+                norm = fresh.col(0).norm_l2();
+                z.rb_mut().col_mut(j).copy_from(fresh.col(0));
+                if norm > 1e-3 {
+                    break;
+                }
+            }
+        } else {
+            r[(j, j)] = norm;
+        }
+        let inv = 1.0 / norm;
+        z.rb_mut().col_mut(j).iter_mut().for_each(|x| *x *= inv);
+    }
+    r
+}
+
+/// Symmetric eigendecomposition of a small matrix, descending.
+fn small_evd(t: MatRef<'_, f64>) -> Result<(Vec<f64>, Mat<f64>), EigenError> {
+    let n = t.nrows();
+    let par = Par::Seq;
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let mut u = Mat::<f64>::zeros(n, n);
+    let mut mem = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::Yes,
+        par,
+        Default::default(),
+    ));
+    self_adjoint_evd(
+        t,
+        s.as_mut(),
+        Some(u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|e| EigenError::NoConvergence {
+        detail: format!("projected eigenproblem: {e:?}"),
+    })?;
+    let vals: Vec<f64> = (0..n).rev().map(|i| s[i]).collect();
+    let vecs = Mat::from_fn(n, n, |i, j| u[(i, n - 1 - j)]);
+    Ok((vals, vecs))
+}
+
+/// Block Lanczos (full reorthogonalisation, thick restart) for the `count`
+/// largest eigenpairs of the symmetric positive semi-definite operator `op`
+/// of dimension n.
+pub fn block_lanczos(
+    op: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>,
+    n: usize,
+    count: usize,
+    tuning: &EigenTuning,
+) -> Result<LanczosOutcome, EigenError> {
+    let par = par();
+    let count = count.min(n);
+    let b = tuning.block_size.clamp(1, n.max(1));
+    let max_basis = if tuning.max_basis > 0 {
+        tuning.max_basis
+    } else {
+        (2 * count + 4 * b).max(40)
+    }
+    .max(count + 2 * b)
+    .min(n);
+    let keep_target = (count + (max_basis - count) / 2)
+        .min(max_basis.saturating_sub(b))
+        .max(count);
+    let mut rng = Xorshift(0x9E37_79B9_7F4A_7C15);
+
+    let mut v = Mat::<f64>::zeros(n, max_basis);
+    let mut t = Mat::<f64>::zeros(max_basis, max_basis);
+    let mut cols = 0usize;
+
+    let mut q = Mat::from_fn(n, b.min(n), |_, _| rng.next());
+    orthonormalise(v.get(.., ..0), q.as_mut(), &mut rng);
+    let mut applications = 0usize;
+    let mut restarts = 0usize;
+
+    loop {
+        // Apply the operator to the pending block and append it to the basis.
+        let bq = q.ncols();
+        let wq = op(q.as_ref());
+        applications += bq;
+        v.get_mut(.., cols..cols + bq).copy_from(&q);
+        let mut h = Mat::<f64>::zeros(cols + bq, bq);
+        matmul(
+            h.as_mut(),
+            Accum::Replace,
+            v.get(.., ..cols + bq).transpose(),
+            wq.as_ref(),
+            1.0,
+            par,
+        );
+        for i in 0..cols + bq {
+            for j in 0..bq {
+                t[(i, cols + j)] = h[(i, j)];
+                t[(cols + j, i)] = h[(i, j)];
+            }
+        }
+        // Symmetrise the new diagonal block.
+        for i in 0..bq {
+            for j in 0..i {
+                let a = 0.5 * (t[(cols + i, cols + j)] + t[(cols + j, cols + i)]);
+                t[(cols + i, cols + j)] = a;
+                t[(cols + j, cols + i)] = a;
+            }
+        }
+        cols += bq;
+
+        let (theta, s) = small_evd(t.get(..cols, ..cols))?;
+        if cols == n {
+            return Ok(ritz(
+                v.get(.., ..cols),
+                &theta,
+                s.as_ref(),
+                count,
+                applications,
+                restarts,
+            ));
+        }
+        // Next block: the new W columns orthogonalised against the basis.
+        // Near the full dimension the block shrinks; the residual estimate then
+        // no longer holds and the basis simply grows to n (exact).
+        let next_b = b.min(n - cols);
+        let exact_relation = next_b == bq;
+        let mut z = if exact_relation {
+            wq
+        } else {
+            wq.get(.., ..next_b.min(bq)).to_owned()
+        };
+        let r = orthonormalise(v.get(.., ..cols), z.as_mut(), &mut rng);
+        // Residual of Ritz pair i: ‖R s_i[last block]‖.
+        let converged = (0..count.min(cols))
+            .filter(|&i| {
+                let mut res2 = 0.0;
+                for row in 0..r.nrows() {
+                    let mut acc = 0.0;
+                    for c in 0..bq {
+                        acc += r[(row, c)] * s[(cols - bq + c, i)];
+                    }
+                    res2 += acc * acc;
+                }
+                res2.sqrt() <= tuning.tolerance * theta[i].abs()
+            })
+            .count();
+        if exact_relation && converged == count && cols >= count {
+            return Ok(ritz(
+                v.get(.., ..cols),
+                &theta,
+                s.as_ref(),
+                count,
+                applications,
+                restarts,
+            ));
+        }
+        q = z;
+        if cols + q.ncols() > max_basis {
+            // Thick restart from the leading Ritz vectors.
+            restarts += 1;
+            if restarts > tuning.max_restarts {
+                return Err(EigenError::NoConvergence {
+                    detail: format!(
+                        "{converged} of {count} modes converged after {restarts} restarts ({applications} operator applications)"
+                    ),
+                });
+            }
+            let keep = keep_target.min(cols);
+            let sk = s.get(.., ..keep);
+            let mut nv = Mat::<f64>::zeros(n, keep);
+            matmul(nv.as_mut(), Accum::Replace, v.get(.., ..cols), sk, 1.0, par);
+            v.get_mut(.., ..keep).copy_from(&nv);
+            drop(nv);
+            t.fill(0.0);
+            for i in 0..keep {
+                t[(i, i)] = theta[i];
+            }
+            cols = keep;
+            // The pending block is orthogonal to the old basis, hence to the new
+            // one; its coupling to the kept vectors, Vᵀ C q, is computed when it
+            // is applied. Reorthogonalise once more against rounding.
+            orthonormalise(v.get(.., ..cols), q.as_mut(), &mut rng);
+        }
+    }
+}
+
+fn ritz(
+    v: MatRef<'_, f64>,
+    theta: &[f64],
+    s: MatRef<'_, f64>,
+    count: usize,
+    applications: usize,
+    restarts: usize,
+) -> LanczosOutcome {
+    let mut y = Mat::<f64>::zeros(v.nrows(), count);
+    matmul(
+        y.as_mut(),
+        Accum::Replace,
+        v,
+        s.get(.., ..count),
+        1.0,
+        par(),
+    );
+    LanczosOutcome {
+        values: theta[..count].to_vec(),
+        vectors: y,
+        applications,
+        restarts,
+    }
+}

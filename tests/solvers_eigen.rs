@@ -1,0 +1,218 @@
+//! Eigen solver against closed forms and an independent dense reference.
+//!
+//! Tolerances: closed-form chain/beam frequencies are exact for the discrete
+//! models, so ω² agrees to ~1e-10 relative (a few hundred ε times the
+//! condition of the pencil); mass normalisation to 1e-9; dense and sparse
+//! paths to 1e-9 relative in ω² (both Rayleigh quotients of converged
+//! vectors).
+
+mod solvers_support;
+
+use frfup::solvers::eigen::{
+    lowest_modes, lowest_modes_with, EigenError, EigenOptions, EigenPath, EigenTuning,
+};
+use solvers_support::*;
+
+fn opts(count: usize, dense: bool, fixed: bool) -> EigenOptions {
+    EigenOptions {
+        count,
+        dense_limit: if dense { usize::MAX } else { 0 },
+        expect_no_rigid_body_modes: fixed,
+    }
+}
+
+#[test]
+fn fixed_free_chain_matches_closed_form_both_paths() {
+    let (n, k, m) = (300, 1.0e4, 0.5);
+    let (kk, mm) = chain(n, k, m, true);
+    for dense in [true, false] {
+        let modes = lowest_modes(&kk, &mm, &opts(20, dense, true)).unwrap();
+        assert_eq!(modes.len(), 20);
+        for j in 0..20 {
+            let exact = fixed_free_omega(n, k, m, j + 1).powi(2);
+            let rel = (modes.omega2[j] - exact).abs() / exact;
+            assert!(
+                rel < 1e-10,
+                "dense={dense} mode {j}: {} vs {exact} ({rel:e})",
+                modes.omega2[j]
+            );
+        }
+        assert!(mass_orthonormality_error(&mm, &modes.shapes) < 1e-9);
+    }
+}
+
+#[test]
+fn free_free_chain_gives_rigid_body_mode_not_error() {
+    let (n, k, m) = (200, 2.0e6, 1.5);
+    let (kk, mm) = chain(n, k, m, false);
+    let scale = k / m;
+    for dense in [true, false] {
+        let modes = lowest_modes(&kk, &mm, &opts(10, dense, false)).unwrap();
+        // Rigid-body ω² is zero up to rounding relative to the stiffness scale.
+        assert!(
+            modes.omega2[0].abs() < 1e-10 * scale,
+            "dense={dense}: {}",
+            modes.omega2[0]
+        );
+        for j in 1..10 {
+            let exact = free_free_omega(n, k, m, j + 1).powi(2);
+            let rel = (modes.omega2[j] - exact).abs() / exact;
+            assert!(rel < 1e-9, "dense={dense} mode {j}: {rel:e}");
+        }
+        assert!(mass_orthonormality_error(&mm, &modes.shapes) < 1e-9);
+        // The rigid-body mode is uniform translation, mass-normalised: 1/√(n m).
+        let v = 1.0 / ((n as f64) * m).sqrt();
+        for i in 0..n {
+            assert!((modes.shapes[(i, 0)].abs() - v).abs() < 1e-6 * v);
+        }
+    }
+}
+
+#[test]
+fn mechanisms_are_counted_when_model_is_fixed() {
+    // Grounded chain with the spring between masses 9 and 10 missing: masses
+    // 10.. float freely → one zero-energy mode. Another break → two.
+    let n = 60;
+    for (breaks, expected) in [(vec![9], 1usize), (vec![9, 30], 2)] {
+        let mut ke = vec![(0, 0, 1.0e5)];
+        for i in 0..n - 1 {
+            if breaks.contains(&i) {
+                continue;
+            }
+            ke.push((i, i, 1.0e5));
+            ke.push((i + 1, i + 1, 1.0e5));
+            ke.push((i, i + 1, -1.0e5));
+        }
+        let kk = sym(n, &ke);
+        let mm = sym(n, &(0..n).map(|i| (i, i, 2.0)).collect::<Vec<_>>());
+        for dense in [true, false] {
+            match lowest_modes(&kk, &mm, &opts(8, dense, true)) {
+                Err(EigenError::Mechanisms { count }) => {
+                    assert_eq!(count, expected, "dense={dense}")
+                }
+                other => panic!("dense={dense}: expected mechanisms, got {other:?}"),
+            }
+            // The same model without the "fixed" flag returns the zero modes.
+            let modes = lowest_modes(&kk, &mm, &opts(8, dense, false)).unwrap();
+            assert!(modes.omega2[expected - 1].abs() < 1e-10 * 5.0e4);
+            assert!(modes.omega2[expected] > 1e-6 * 5.0e4);
+        }
+    }
+}
+
+#[test]
+fn cantilever_beam_matches_euler_bernoulli() {
+    // 60 cubic elements: discretisation error of the first modes < 1e-8.
+    let (len, ei, rho_a) = (2.0, 2.1e11 * 1e-8, 7850.0 * 1e-4);
+    let (kk, mm) = eb_beam(60, len, ei, rho_a, true);
+    let beta_l = [
+        1.875_104_068_711_961,
+        4.694_091_132_974_175,
+        7.854_757_438_237_613,
+    ];
+    for dense in [true, false] {
+        let modes = lowest_modes(&kk, &mm, &opts(3, dense, true)).unwrap();
+        for (j, bl) in beta_l.iter().enumerate() {
+            let exact = (bl / len).powi(4) * ei / rho_a;
+            let rel = (modes.omega2[j] - exact).abs() / exact;
+            assert!(rel < 1e-6, "dense={dense} mode {j}: {rel:e}");
+        }
+    }
+}
+
+#[test]
+fn free_free_beam_has_two_rigid_modes_and_dense_sparse_agree() {
+    let (kk, mm) = eb_beam(80, 3.0, 5.0e4, 2.0, false);
+    let d = lowest_modes(&kk, &mm, &opts(12, true, false)).unwrap();
+    let s = lowest_modes(&kk, &mm, &opts(12, false, false)).unwrap();
+    let scale = d.omega2[11];
+    for j in 0..12 {
+        assert!(
+            (d.omega2[j] - s.omega2[j]).abs() < 1e-9 * scale,
+            "mode {j}: {} vs {}",
+            d.omega2[j],
+            s.omega2[j]
+        );
+    }
+    assert!(d.omega2[1].abs() < 1e-9 * scale && d.omega2[2] > 1e-6 * scale);
+    // Elastic shapes agree up to sign (rigid pair only up to rotation).
+    for j in 2..12 {
+        let dot: f64 = (0..kk.nrows())
+            .map(|i| d.shapes[(i, j)] * s.shapes[(i, j)])
+            .sum::<f64>();
+        let nd: f64 = (0..kk.nrows())
+            .map(|i| d.shapes[(i, j)].powi(2))
+            .sum::<f64>();
+        assert!((dot.abs() / nd - 1.0).abs() < 1e-7, "mode {j}");
+    }
+    assert!(mass_orthonormality_error(&mm, &s.shapes) < 1e-9);
+}
+
+#[test]
+fn random_pencils_match_dense_reference() {
+    for (n, band, seed) in [(40, 3, 1u64), (150, 6, 7), (400, 10, 42)] {
+        let (k, m) = random_pencil(n, band, seed);
+        let reference = reference_eigenvalues(&k, &m);
+        let (kk, mm) = (from_dense(&k), from_dense(&m));
+        let count = 25.min(n);
+        for dense in [true, false] {
+            let modes = lowest_modes(&kk, &mm, &opts(count, dense, true)).unwrap();
+            for j in 0..count {
+                let rel = (modes.omega2[j] - reference[j]).abs() / reference[j];
+                assert!(rel < 1e-9, "n={n} dense={dense} mode {j}: {rel:e}");
+            }
+            assert!(mass_orthonormality_error(&mm, &modes.shapes) < 1e-9);
+        }
+        // All modes by the dense path.
+        let all = lowest_modes(&kk, &mm, &opts(n, true, true)).unwrap();
+        for j in 0..n {
+            assert!((all.omega2[j] - reference[j]).abs() < 1e-9 * reference[n - 1]);
+        }
+    }
+}
+
+#[test]
+fn sparse_path_report_and_small_dimension_edge_cases() {
+    // count ≥ n and a tiny model on the sparse path (Krylov space = whole space).
+    let (kk, mm) = chain(5, 1.0, 1.0, true);
+    let (modes, report) =
+        lowest_modes_with(&kk, &mm, &opts(10, false, true), &EigenTuning::default()).unwrap();
+    assert_eq!(report.path, EigenPath::Sparse);
+    assert_eq!(modes.len(), 5);
+    for j in 0..5 {
+        let exact = fixed_free_omega(5, 1.0, 1.0, j + 1).powi(2);
+        assert!((modes.omega2[j] - exact).abs() < 1e-12);
+    }
+    assert!(report.shift < 0.0);
+    let empty = lowest_modes(&kk, &mm, &opts(0, false, true)).unwrap();
+    assert!(empty.is_empty());
+}
+
+#[test]
+fn bad_input_is_an_error_not_a_panic() {
+    let (kk, _) = chain(5, 1.0, 1.0, true);
+    let (_, m4) = chain(4, 1.0, 1.0, true);
+    assert!(matches!(
+        lowest_modes(&kk, &m4, &opts(2, true, true)),
+        Err(EigenError::InvalidInput { .. })
+    ));
+    let m0 = sym(
+        5,
+        &[
+            (0, 0, 1.0),
+            (1, 1, 1.0),
+            (2, 2, 0.0),
+            (3, 3, 1.0),
+            (4, 4, 1.0),
+        ],
+    );
+    assert!(matches!(
+        lowest_modes(&kk, &m0, &opts(2, false, true)),
+        Err(EigenError::MassNotPositive { .. })
+    ));
+    let knan = sym(5, &[(0, 0, f64::NAN)]);
+    assert!(matches!(
+        lowest_modes(&knan, &m0, &opts(2, true, true)),
+        Err(EigenError::InvalidInput { .. })
+    ));
+}
