@@ -341,6 +341,24 @@ fn binary_block(
         }
     }
     if chosen.is_none() {
+        if let Some(d) = declared_ok.filter(|&d| d <= available) {
+            if closing_after(bytes, data_start + d).is_some() {
+                // The data hold what the header declares, but not what record 7 needs.
+                let expected: Vec<String> = layouts.iter().filter_map(|(b, _)| b.map(|b| b.to_string())).collect();
+                return Err(err(
+                    Some(data_line),
+                    data_start,
+                    format!(
+                        "wrong byte count in 58b: header and data hold {declared} bytes, but record 7 ({} points, ordinate type {}) needs {}",
+                        record7.points,
+                        record7.ordinate_type,
+                        expected.join(" or ")
+                    ),
+                ));
+            }
+        }
+    }
+    if chosen.is_none() {
         // Declared byte count inconsistent with record 7 (pyuff writes n*8 for
         // complex data): accept the length record 7 implies if a `-1` follows it.
         for &(len, abscissa) in &layouts {
