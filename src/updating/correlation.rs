@@ -1,0 +1,169 @@
+//! Correlation of FE and test data: the modified FDAC (Eq. 44), the simplified
+//! SFDAC (Eq. 45–46) on signed real displacement FRFs (m/N), the MAC, and the
+//! pairing of test resonances with FE modes.
+
+use super::serep::dot;
+
+/// (xᵀy)|xᵀy| / ((xᵀx)(yᵀy)): the signed square of the cosine between x and y,
+/// in [−1, 1]; 0 when either vector is zero.
+fn signed_cos2(x: &[f64], y: &[f64]) -> f64 {
+    let xy = dot(x, y);
+    let d = dot(x, x) * dot(y, y);
+    if d > 0.0 && d.is_finite() {
+        (xy * xy.abs() / d).clamp(-1.0, 1.0)
+    } else {
+        0.0
+    }
+}
+
+/// SFDAC_i (Eq. 45) of the FE FRF `fe` and the measured FRF `test` at one
+/// updating frequency (same DOF order).
+pub fn sfdac(fe: &[f64], test: &[f64]) -> f64 {
+    signed_cos2(fe, test)
+}
+
+/// The SFDAC vector, its mean (Eq. 46) and minimum.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SfdacSummary {
+    pub values: Vec<f64>,
+    pub mean: f64,
+    pub min: f64,
+}
+
+impl SfdacSummary {
+    pub fn new(fe: &[Vec<f64>], test: &[Vec<f64>]) -> SfdacSummary {
+        let values: Vec<f64> = fe.iter().zip(test).map(|(h, t)| sfdac(h, t)).collect();
+        let mean = if values.is_empty() {
+            0.0
+        } else {
+            values.iter().sum::<f64>() / values.len() as f64
+        };
+        let min = values.iter().copied().fold(f64::INFINITY, f64::min);
+        SfdacSummary {
+            values,
+            mean,
+            min: if min.is_finite() { min } else { 0.0 },
+        }
+    }
+}
+
+/// FDAC(ω_i, ω̄_j) (Eq. 44): rows are FE frequencies, columns test frequencies.
+pub fn fdac_matrix(fe: &[Vec<f64>], test: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    fe.iter()
+        .map(|h| test.iter().map(|t| signed_cos2(h, t)).collect())
+        .collect()
+}
+
+/// MAC(x, y) = (xᵀy)² / ((xᵀx)(yᵀy)).
+pub fn mac(x: &[f64], y: &[f64]) -> f64 {
+    signed_cos2(x, y).abs()
+}
+
+/// A test resonance paired with an FE mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModePair {
+    /// Index of the test resonance.
+    pub test: usize,
+    /// Index of the FE mode (into the computed modes).
+    pub fe: usize,
+    pub mac: f64,
+    pub fe_hz: f64,
+}
+
+/// Pair each test resonance with one FE mode: pairs are formed greedily in
+/// order of decreasing MAC (ties: closer frequency, then lower indices), each FE
+/// mode used once; a pair needs MAC ≥ `mac_min`. Resonances left over are
+/// paired, if any FE mode is still free, with the free mode nearest in
+/// frequency among those with MAC ≥ `mac_min`/2, else left unpaired (`None`).
+pub fn pair_modes(
+    test_shapes: &[Vec<f64>],
+    test_hz: &[f64],
+    fe_shapes: &[Vec<f64>],
+    fe_hz: &[f64],
+    mac_min: f64,
+) -> Vec<Option<ModePair>> {
+    let mut cands = Vec::new();
+    for (t, ts) in test_shapes.iter().enumerate() {
+        for (e, es) in fe_shapes.iter().enumerate() {
+            let m = mac(ts, es);
+            let df = ((fe_hz[e] - test_hz[t]) / test_hz[t].abs().max(1e-12)).abs();
+            cands.push((m, df, t, e));
+        }
+    }
+    cands.sort_by(|a, b| {
+        b.0.total_cmp(&a.0)
+            .then(a.1.total_cmp(&b.1))
+            .then(a.2.cmp(&b.2))
+            .then(a.3.cmp(&b.3))
+    });
+    let mut out: Vec<Option<ModePair>> = vec![None; test_shapes.len()];
+    let mut used = vec![false; fe_shapes.len()];
+    for &(m, _, t, e) in &cands {
+        if m < mac_min {
+            break;
+        }
+        if out[t].is_none() && !used[e] {
+            out[t] = Some(ModePair {
+                test: t,
+                fe: e,
+                mac: m,
+                fe_hz: fe_hz[e],
+            });
+            used[e] = true;
+        }
+    }
+    for t in 0..test_shapes.len() {
+        if out[t].is_some() {
+            continue;
+        }
+        let best = cands
+            .iter()
+            .filter(|c| c.2 == t && !used[c.3] && c.0 >= 0.5 * mac_min)
+            .min_by(|a, b| a.1.total_cmp(&b.1).then(a.3.cmp(&b.3)));
+        if let Some(&(m, _, _, e)) = best {
+            out[t] = Some(ModePair {
+                test: t,
+                fe: e,
+                mac: m,
+                fe_hz: fe_hz[e],
+            });
+            used[e] = true;
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sfdac_values() {
+        assert!((sfdac(&[1.0, 2.0], &[2.0, 4.0]) - 1.0).abs() < 1e-15);
+        assert!((sfdac(&[1.0, 2.0], &[-2.0, -4.0]) + 1.0).abs() < 1e-15);
+        assert_eq!(sfdac(&[1.0, 0.0], &[0.0, 1.0]), 0.0);
+        assert_eq!(sfdac(&[0.0, 0.0], &[0.0, 1.0]), 0.0);
+        // cos 45° → 0.5
+        assert!((sfdac(&[1.0, 0.0], &[1.0, 1.0]) - 0.5).abs() < 1e-15);
+        let s = SfdacSummary::new(
+            &[vec![1.0, 0.0], vec![1.0, 0.0]],
+            &[vec![1.0, 1.0], vec![-1.0, 0.0]],
+        );
+        assert_eq!(s.values, vec![0.5, -1.0]);
+        assert!((s.mean + 0.25).abs() < 1e-15);
+        assert_eq!(s.min, -1.0);
+        let f = fdac_matrix(&[vec![1.0, 0.0]], &[vec![1.0, 1.0], vec![0.0, -1.0]]);
+        assert_eq!(f.len(), 1);
+        assert!((f[0][0] - 0.5).abs() < 1e-15 && f[0][1] == 0.0);
+    }
+
+    #[test]
+    fn pairing_prefers_mac_then_frequency() {
+        let test = vec![vec![1.0, 1.0], vec![1.0, -1.0]];
+        let fe = vec![vec![1.0, -1.05], vec![1.0, 0.95], vec![0.0, 1.0]];
+        let p = pair_modes(&test, &[10.0, 20.0], &fe, &[21.0, 9.0, 30.0], 0.6);
+        assert_eq!(p[0].as_ref().unwrap().fe, 1);
+        assert_eq!(p[1].as_ref().unwrap().fe, 0);
+        assert!(p[0].as_ref().unwrap().mac > 0.99);
+    }
+}

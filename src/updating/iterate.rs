@@ -1,0 +1,509 @@
+//! The updating iteration (§3.1): at the current parameters p̄^n build the
+//! model, compute its lowest modes, reduce by SEREP, form A p = b (Eq. 11–12,
+//! optionally with Eq. 18–22), solve it by the truncated SVD (Eq. 41), and
+//! compose p̄^{n+1} = p̄^n + p^{n+1} + p̄^n p^{n+1} (Eq. 29); stop when
+//! max_j |p_j| < tol (Eq. 49).
+//!
+//! Safeguards: a step with 1 + p_j ≤ 0 (a property would become ≤ 0) is halved
+//! until every 1 + p_j ≥ 0.1; if the SFDAC mean falls for two iterations in a
+//! row, or a |p̄_j| exceeds `max_parameter`, the iteration stops and the best
+//! iteration (highest SFDAC mean) is returned. When the iteration limit is hit
+//! the best iteration is returned too.
+//!
+//! Combining the two kinds of equation (Eq. 21–22): each block is divided by
+//! the Frobenius norm of its sensitivity matrix (A_h/‖A_h‖_F, b_h/‖A_h‖_F and
+//! likewise for A_ω, b_ω), so neither dominates and each block's own solution
+//! is unchanged. The FRF-only system is used as the paper writes it (no scaling).
+
+use faer::Mat;
+use frfup_parsers::deck::Deck;
+
+use super::correlation::{fdac_matrix, pair_modes, SfdacSummary};
+use super::frequencies::{indicator, pick_peaks, PeakOptions, UpdatingFrequencies};
+use super::measured::MeasuredDofs;
+use super::sensitivity::{frequency_equation, frf_equations, ModalSensitivities};
+use super::serep::{InverseMethod, SerepBasis};
+use super::svd_solve::solve_gap_rule;
+use super::{IterationRecord, StopReason, UpdateError, UpdateOptions, UpdateResult, UpdateWarning};
+use crate::model::{self, FeModel, ModelError, ParameterValues};
+use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
+use crate::testdata::MeasuredFrfs;
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// Update the parameters of `deck` so that its FRFs match `test`.
+pub fn update(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+) -> Result<UpdateResult, UpdateError> {
+    update_with_progress(deck, test, opts, &mut |_| {})
+}
+
+/// [`update`], calling `progress` after every scored iteration.
+pub fn update_with_progress(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<UpdateResult, UpdateError> {
+    update_model(
+        &mut |values| model::build(deck, values),
+        test,
+        opts,
+        progress,
+    )
+}
+
+/// The iteration on any model source: `build` assembles the FE model at the
+/// given relative parameter changes (p̄, deck order names).
+pub fn update_model(
+    build: &mut dyn FnMut(&ParameterValues) -> Result<FeModel, ModelError>,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<UpdateResult, UpdateError> {
+    check_options(opts)?;
+    let mut warnings = Vec::new();
+    let model0 = build(&ParameterValues::new()).map_err(UpdateError::Model)?;
+    let names: Vec<String> = model0.parameters.iter().map(|p| p.name.clone()).collect();
+    if names.is_empty() {
+        return Err(UpdateError::NoParameters);
+    }
+    let np = names.len();
+    let meas = MeasuredDofs::new(&model0, test, &mut warnings)?;
+    let n_ex = meas.len();
+
+    // Measured resonances and updating frequencies (Eq. 42).
+    let peaks = pick_peaks(
+        &meas.lines_hz,
+        &indicator(&meas.mobility),
+        &PeakOptions {
+            min_prominence: opts.min_prominence,
+        },
+    );
+    let r_used = match opts.resonances {
+        Some(r) => r.min(peaks.len()),
+        None => peaks.len().min(n_ex).min(8),
+    };
+    let updating = match &opts.frequencies_hz {
+        Some(f) => UpdatingFrequencies::explicit(f, &meas.lines_hz),
+        None => {
+            if peaks.is_empty() {
+                return Err(UpdateError::NoResonances);
+            }
+            UpdatingFrequencies::around_resonances(&peaks, r_used, opts.offset, &meas.lines_hz)
+        }
+    };
+    for s in &updating.skipped {
+        warnings.push(UpdateWarning::SkippedFrequency(s.clone()));
+    }
+    if updating.is_empty() {
+        return Err(UpdateError::NoUpdatingFrequencies {
+            skipped: updating.skipped.clone(),
+        });
+    }
+    let omegas: Vec<f64> = updating.frequencies.iter().map(|u| TWO_PI * u.hz).collect();
+    let h_test: Vec<Vec<f64>> = updating
+        .frequencies
+        .iter()
+        .map(|u| meas.at_line(u.line))
+        .collect();
+    let test_shapes: Vec<Vec<f64>> = peaks
+        .iter()
+        .map(|r| meas.deflection_shape(r.line))
+        .collect();
+    let test_hz: Vec<f64> = peaks.iter().map(|r| r.frequency_hz).collect();
+
+    let r_basis = if opts.frequencies_hz.is_some() {
+        r_used.max(updating.len() / 2)
+    } else {
+        r_used
+    };
+    let n_md = opts
+        .modes
+        .unwrap_or_else(|| (2 * r_basis).max(r_basis + 4))
+        .min(n_ex)
+        .max(1);
+    if let Some(m) = opts.modes {
+        if m > n_ex {
+            warnings.push(UpdateWarning::FewerModes {
+                requested: m,
+                used: n_ex,
+            });
+        }
+    }
+    let extra = (n_md / 2).max(4);
+    let n_eig = (n_md + extra).max(peaks.len() + 2).min(model0.dofs.len());
+
+    let mut records: Vec<IterationRecord> = Vec::new();
+    let mut p_bar = vec![0.0; np];
+    let mut step = vec![0.0; np];
+    let mut step_scale = 1.0;
+    let mut rank = 0;
+    let mut singular_values = Vec::new();
+    let mut model = Some(model0);
+    let mut stop = StopReason::IterationLimit;
+    let mut fe_frfs_initial = Vec::new();
+    let mut fe_frfs_last = Vec::new();
+    let mut warned_null = false;
+    let mut warned_fewer = false;
+
+    for n in 0..=opts.max_iter {
+        let fe = match model.take() {
+            Some(m) => m,
+            None => {
+                let values: ParameterValues =
+                    names.iter().cloned().zip(p_bar.iter().copied()).collect();
+                build(&values).map_err(UpdateError::Model)?
+            }
+        };
+        let modes = lowest_modes(
+            &fe.stiffness,
+            &fe.mass,
+            &EigenOptions {
+                count: n_eig,
+                expect_no_rigid_body_modes: fe.has_fixed_dofs,
+                ..EigenOptions::default()
+            },
+        )
+        .map_err(UpdateError::Eigen)?;
+        let fe_hz = modes.frequencies_hz();
+        let basis = SerepBasis::select(&modes, &meas.equations, n_md, opts.basis_tolerance)
+            .map_err(UpdateError::Serep)?;
+        if n == 0 {
+            let dropped: Vec<f64> = basis
+                .dropped
+                .iter()
+                .filter(|&&r| r < *basis.modes.last().unwrap_or(&0))
+                .map(|&r| fe_hz[r])
+                .collect();
+            if !dropped.is_empty() {
+                warnings.push(UpdateWarning::DroppedModes {
+                    iteration: 0,
+                    modes_hz: dropped,
+                });
+            }
+            for u in &updating.frequencies {
+                if let Some(f) = fe_hz.iter().find(|&&f| (f - u.hz).abs() <= 0.01 * u.hz) {
+                    warnings.push(UpdateWarning::NearFeResonance {
+                        hz: u.hz,
+                        fe_hz: *f,
+                    });
+                }
+            }
+        }
+        if basis.len() < n_md && !warned_fewer {
+            warned_fewer = true;
+            warnings.push(UpdateWarning::FewerModes {
+                requested: n_md,
+                used: basis.len(),
+            });
+        }
+        let sens = ModalSensitivities::project(&fe.parameters, modes.shapes.as_ref(), &basis.modes);
+        let eqs = frf_equations(
+            &basis,
+            &sens,
+            &omegas,
+            &h_test,
+            meas.excitation_row,
+            opts.inverse,
+        )
+        .map_err(UpdateError::Sensitivity)?;
+        let sfdac = SfdacSummary::new(&eqs.fe_frf, &h_test);
+        let fe_shapes: Vec<Vec<f64>> = (0..modes.len())
+            .map(|r| {
+                meas.equations
+                    .iter()
+                    .map(|&i| modes.shapes[(i, r)])
+                    .collect()
+            })
+            .collect();
+        let pairs = pair_modes(&test_shapes, &test_hz, &fe_shapes, &fe_hz, opts.mac_min);
+        if n == 0 {
+            fe_frfs_initial = eqs.fe_frf.clone();
+            for (t, p) in pairs.iter().enumerate().take(r_used.max(1)) {
+                if p.is_none() {
+                    warnings.push(UpdateWarning::UnpairedResonance {
+                        resonance: t,
+                        hz: test_hz[t],
+                    });
+                }
+            }
+        }
+        fe_frfs_last = eqs.fe_frf.clone();
+        let record = IterationRecord {
+            index: n,
+            parameters: p_bar.clone(),
+            step: step.clone(),
+            step_scale,
+            rank,
+            singular_values: std::mem::take(&mut singular_values),
+            sfdac,
+            fe_frequencies_hz: fe_hz.clone(),
+            basis_modes: basis.modes.clone(),
+            pairs: pairs.clone(),
+        };
+        progress(&record);
+        records.push(record);
+
+        // Stopping rules.
+        let max_step = step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+        if n > 0 && max_step < opts.tol {
+            stop = StopReason::Converged;
+            break;
+        }
+        if n >= 2 {
+            let m: Vec<f64> = records[n - 2..=n].iter().map(|r| r.sfdac.mean).collect();
+            if m[2] < m[1] - 1e-5 && m[1] < m[0] - 1e-5 {
+                stop = StopReason::Diverged;
+                warnings.push(UpdateWarning::Diverged {
+                    iteration: n,
+                    best: best_index(&records),
+                });
+                break;
+            }
+        }
+        if n == opts.max_iter {
+            warnings.push(UpdateWarning::NotConverged {
+                iterations: n,
+                last_step: max_step,
+            });
+            break;
+        }
+
+        // Assemble and solve A p = b.
+        let (a, b) = assemble(&eqs.a, &eqs.b, opts, &fe, &modes, &pairs, &test_hz, r_used);
+        let sol = solve_gap_rule(a.as_ref(), &b, opts.svd_eps).map_err(UpdateError::Svd)?;
+        if !sol.null_space.is_empty() && !warned_null {
+            warned_null = true;
+            let combinations = sol
+                .null_space
+                .iter()
+                .map(|v| {
+                    let vmax = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+                    names
+                        .iter()
+                        .zip(v)
+                        .filter(|(_, x)| x.abs() >= 0.1 * vmax)
+                        .map(|(nm, x)| (nm.clone(), *x))
+                        .collect()
+                })
+                .collect();
+            warnings.push(UpdateWarning::Indistinguishable {
+                iteration: n,
+                combinations,
+            });
+        }
+        rank = sol.rank;
+        singular_values = sol.singular_values;
+        let mut p = sol.step;
+        // 1 + p ≤ 0 would make a property ≤ 0: halve the step.
+        step_scale = 1.0;
+        let bad: Vec<String> = names
+            .iter()
+            .zip(&p)
+            .filter(|(_, &x)| 1.0 + x <= 0.0)
+            .map(|(nm, _)| nm.clone())
+            .collect();
+        if !bad.is_empty() {
+            while p.iter().any(|&x| 1.0 + step_scale * x < 0.1) && step_scale > 1e-12 {
+                step_scale *= 0.5;
+            }
+            p.iter_mut().for_each(|x| *x *= step_scale);
+            warnings.push(UpdateWarning::StepLimited {
+                iteration: n + 1,
+                scale: step_scale,
+                parameters: bad,
+            });
+        }
+        for (pb, x) in p_bar.iter_mut().zip(&p) {
+            *pb = *pb + x + *pb * x; // Eq. 29
+        }
+        step = p;
+        if let Some((j, v)) = p_bar
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !v.is_finite() || v.abs() > opts.max_parameter)
+        {
+            stop = StopReason::ParameterExploded;
+            warnings.push(UpdateWarning::ParameterExploded {
+                iteration: n + 1,
+                name: names[j].clone(),
+                value: *v,
+                best: best_index(&records),
+            });
+            break;
+        }
+    }
+
+    let final_iteration = match stop {
+        StopReason::Converged => records.len() - 1,
+        _ => best_index(&records),
+    };
+    let fdac_initial = fdac_matrix(&fe_frfs_initial, &h_test);
+    let fdac_final = if final_iteration == records.len() - 1 {
+        fdac_matrix(&fe_frfs_last, &h_test)
+    } else {
+        // Recompute the FE FRFs of the returned (best) iteration.
+        let vals: ParameterValues = names
+            .iter()
+            .cloned()
+            .zip(records[final_iteration].parameters.iter().copied())
+            .collect();
+        let fe = build(&vals).map_err(UpdateError::Model)?;
+        let modes = lowest_modes(
+            &fe.stiffness,
+            &fe.mass,
+            &EigenOptions {
+                count: n_eig,
+                expect_no_rigid_body_modes: fe.has_fixed_dofs,
+                ..EigenOptions::default()
+            },
+        )
+        .map_err(UpdateError::Eigen)?;
+        let basis = SerepBasis::select(&modes, &meas.equations, n_md, opts.basis_tolerance)
+            .map_err(UpdateError::Serep)?;
+        let sens = ModalSensitivities::project(&[], modes.shapes.as_ref(), &basis.modes);
+        let eqs = frf_equations(
+            &basis,
+            &sens,
+            &omegas,
+            &h_test,
+            meas.excitation_row,
+            InverseMethod::Svd,
+        )
+        .map_err(UpdateError::Sensitivity)?;
+        fdac_matrix(&eqs.fe_frf, &h_test)
+    };
+    Ok(UpdateResult {
+        converged: stop == StopReason::Converged,
+        stop,
+        parameter_names: names,
+        final_iteration,
+        iterations: records,
+        resonances: peaks,
+        resonances_used: r_used,
+        updating_frequencies: updating,
+        modes: n_md,
+        measured_dofs: meas.labels.clone(),
+        excitation: meas.excitation_label.clone(),
+        fdac_initial,
+        fdac_final,
+        warnings,
+        options: opts.clone(),
+    })
+}
+
+/// Index of the record with the highest SFDAC mean (earliest on ties).
+fn best_index(records: &[IterationRecord]) -> usize {
+    let mut best = 0;
+    for (i, r) in records.iter().enumerate() {
+        if r.sfdac.mean > records[best].sfdac.mean {
+            best = i;
+        }
+    }
+    best
+}
+
+/// A_h, b_h, plus the normalised frequency rows when asked (Eq. 21–22).
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    a_h: &Mat<f64>,
+    b_h: &[f64],
+    opts: &UpdateOptions,
+    fe: &FeModel,
+    modes: &Modes,
+    pairs: &[Option<super::ModePair>],
+    test_hz: &[f64],
+    r_used: usize,
+) -> (Mat<f64>, Vec<f64>) {
+    if !opts.with_frequencies {
+        return (a_h.clone(), b_h.to_vec());
+    }
+    let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+    for (t, pair) in pairs.iter().enumerate().take(r_used) {
+        if let Some(p) = pair {
+            let w2_test = (TWO_PI * test_hz[t]).powi(2);
+            rows.push(frequency_equation(
+                &fe.parameters,
+                modes.shapes.as_ref(),
+                p.fe,
+                modes.omega2[p.fe],
+                w2_test,
+            ));
+        }
+    }
+    let np = a_h.ncols();
+    let fro = |m: &Mat<f64>| -> f64 {
+        let mut s = 0.0;
+        for j in 0..m.ncols() {
+            for i in 0..m.nrows() {
+                s += m[(i, j)] * m[(i, j)];
+            }
+        }
+        s.sqrt()
+    };
+    let nh = fro(a_h);
+    let sh = if nh > 0.0 { 1.0 / nh } else { 1.0 };
+    let nw = rows
+        .iter()
+        .flat_map(|(r, _)| r.iter())
+        .map(|x| x * x)
+        .sum::<f64>()
+        .sqrt();
+    let sw = if nw > 0.0 { 1.0 / nw } else { 1.0 };
+    let mh = a_h.nrows();
+    let a = Mat::from_fn(mh + rows.len(), np, |i, j| {
+        if i < mh {
+            a_h[(i, j)] * sh
+        } else {
+            rows[i - mh].0[j] * sw
+        }
+    });
+    let mut b: Vec<f64> = b_h.iter().map(|x| x * sh).collect();
+    b.extend(rows.iter().map(|(_, x)| x * sw));
+    (a, b)
+}
+
+fn check_options(opts: &UpdateOptions) -> Result<(), UpdateError> {
+    let bad = |s: String| Err(UpdateError::InvalidOption(s));
+    if !(opts.offset > 0.0 && opts.offset < 1.0) && opts.frequencies_hz.is_none() {
+        return bad(format!(
+            "--offset {} must be in (0, 1) (the paper uses 0.05–0.10)",
+            opts.offset
+        ));
+    }
+    if !(opts.svd_eps > 0.0 && opts.svd_eps < 1.0) {
+        return bad(format!("--svd-eps {} must be in (0, 1)", opts.svd_eps));
+    }
+    if !(opts.tol > 0.0 && opts.tol.is_finite()) {
+        return bad(format!("--tol {} must be > 0", opts.tol));
+    }
+    if opts.modes == Some(0) {
+        return bad("--modes must be at least 1".into());
+    }
+    if opts.resonances == Some(0) {
+        return bad("--resonances must be at least 1".into());
+    }
+    if let InverseMethod::Perturb { relative } = opts.inverse {
+        if !(relative > 0.0 && relative.is_finite()) {
+            return bad(format!("--perturbation {relative} must be > 0"));
+        }
+    }
+    if let Some(f) = &opts.frequencies_hz {
+        if f.is_empty() || f.iter().any(|x| !(x.is_finite() && *x > 0.0)) {
+            return bad("--freqs needs positive frequencies in Hz".into());
+        }
+    }
+    if !(opts.basis_tolerance >= 0.0 && opts.basis_tolerance < 1.0) {
+        return bad(format!(
+            "basis tolerance {} must be in [0, 1)",
+            opts.basis_tolerance
+        ));
+    }
+    if !(opts.max_parameter > 0.0) {
+        return bad(format!("max parameter {} must be > 0", opts.max_parameter));
+    }
+    Ok(())
+}

@@ -1,0 +1,309 @@
+//! Report files of an update, each written atomically; the same result gives
+//! the same bytes.
+//!
+//! * `report.json`: everything (keys sorted, iteration 0 = initial model);
+//! * `parameters.csv`: p̄ per iteration (the paper's Tables 1, 2, 4);
+//! * `frequencies.csv`: test vs initial vs updated natural frequencies (Tables 3, 7);
+//! * `sfdac.csv`: SFDAC per updating frequency, initial and updated (Table 6);
+//! * `updated.deck`: the deck at the updated parameter values;
+//! * `report.md`: a short human summary.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use frfup_parsers::deck::{self, Deck};
+use serde_json::{json, Map, Value};
+
+use super::{IterationRecord, UpdateResult};
+use crate::fsio::write_atomic;
+use crate::model;
+
+/// Write the report files of `result` (for `deck`) into `dir` (created if missing).
+pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(&report_json(result)).map_err(std::io::Error::other)?;
+    write_atomic(&dir.join("report.json"), (json + "\n").as_bytes())?;
+    write_atomic(
+        &dir.join("parameters.csv"),
+        parameters_csv(result).as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("frequencies.csv"),
+        frequencies_csv(result).as_bytes(),
+    )?;
+    write_atomic(&dir.join("sfdac.csv"), sfdac_csv(result).as_bytes())?;
+    let updated = model::updated_deck(deck, &result.parameter_values());
+    write_atomic(&dir.join("updated.deck"), deck::write(&updated).as_bytes())?;
+    write_atomic(&dir.join("report.md"), report_md(result).as_bytes())?;
+    Ok(())
+}
+
+fn named(names: &[String], values: &[f64]) -> Value {
+    let mut m = Map::new();
+    for (n, v) in names.iter().zip(values) {
+        m.insert(n.clone(), json!(v));
+    }
+    Value::Object(m)
+}
+
+/// One row of the frequency table: test Hz, initial/updated FE Hz and MAC.
+pub struct FrequencyRow {
+    pub test_hz: f64,
+    pub initial: Option<(f64, f64)>,
+    pub updated: Option<(f64, f64)>,
+}
+
+/// Test resonances with their initial and updated FE partners.
+pub fn frequency_rows(result: &UpdateResult) -> Vec<FrequencyRow> {
+    let first = &result.iterations[0];
+    let last = result.final_record();
+    result
+        .resonances
+        .iter()
+        .enumerate()
+        .map(|(t, r)| FrequencyRow {
+            test_hz: r.frequency_hz,
+            initial: first
+                .pairs
+                .get(t)
+                .cloned()
+                .flatten()
+                .map(|p| (p.fe_hz, p.mac)),
+            updated: last
+                .pairs
+                .get(t)
+                .cloned()
+                .flatten()
+                .map(|p| (p.fe_hz, p.mac)),
+        })
+        .collect()
+}
+
+fn dev_pct(fe: f64, test: f64) -> f64 {
+    100.0 * (fe - test) / test
+}
+
+/// Mean |f_fe/f_test − 1| in % over the paired rows (Table 3's last line).
+pub fn mean_abs_dev(rows: &[FrequencyRow], updated: bool) -> Option<f64> {
+    let devs: Vec<f64> = rows
+        .iter()
+        .filter_map(|r| {
+            if updated { r.updated } else { r.initial }.map(|(f, _)| dev_pct(f, r.test_hz).abs())
+        })
+        .collect();
+    (!devs.is_empty()).then(|| devs.iter().sum::<f64>() / devs.len() as f64)
+}
+
+fn iteration_json(names: &[String], r: &IterationRecord) -> Value {
+    json!({
+        "index": r.index,
+        "parameters": named(names, &r.parameters),
+        "step": named(names, &r.step),
+        "step_scale": r.step_scale,
+        "rank": r.rank,
+        "singular_values": r.singular_values,
+        "sfdac_mean": r.sfdac.mean,
+        "sfdac_min": r.sfdac.min,
+        "sfdac": r.sfdac.values,
+        "fe_frequencies_hz": r.fe_frequencies_hz,
+        "basis_modes": r.basis_modes,
+    })
+}
+
+/// The content of `report.json`.
+pub fn report_json(result: &UpdateResult) -> Value {
+    let names = &result.parameter_names;
+    let rows = frequency_rows(result);
+    let opt = |x: Option<(f64, f64)>, i: usize| match x {
+        Some(v) => json!(if i == 0 { v.0 } else { v.1 }),
+        None => Value::Null,
+    };
+    let o = &result.options;
+    let (inverse, perturbation) = match o.inverse {
+        super::InverseMethod::Svd => ("svd", Value::Null),
+        super::InverseMethod::Perturb { relative } => ("perturb", json!(relative)),
+    };
+    json!({
+        "converged": result.converged,
+        "stop": result.stop.name(),
+        "final_iteration": result.final_iteration,
+        "parameter_order": names,
+        "parameters": named(names, result.parameters()),
+        "iterations": result.iterations.iter().map(|r| iteration_json(names, r)).collect::<Vec<_>>(),
+        "updating_frequencies_hz": result.updating_frequencies.hz(),
+        "resonances": result.resonances.iter().enumerate().map(|(i, r)| json!({
+            "frequency_hz": r.frequency_hz,
+            "damping_ratio": r.damping_ratio,
+            "used": i < result.resonances_used,
+        })).collect::<Vec<_>>(),
+        "frequencies": {
+            "test": rows.iter().map(|r| r.test_hz).collect::<Vec<_>>(),
+            "initial": rows.iter().map(|r| opt(r.initial, 0)).collect::<Vec<_>>(),
+            "updated": rows.iter().map(|r| opt(r.updated, 0)).collect::<Vec<_>>(),
+            "initial_mac": rows.iter().map(|r| opt(r.initial, 1)).collect::<Vec<_>>(),
+            "updated_mac": rows.iter().map(|r| opt(r.updated, 1)).collect::<Vec<_>>(),
+            "initial_mean_abs_dev_pct": mean_abs_dev(&rows, false),
+            "updated_mean_abs_dev_pct": mean_abs_dev(&rows, true),
+        },
+        "fdac": {"initial": result.fdac_initial, "updated": result.fdac_final},
+        "measured_dofs": result.measured_dofs,
+        "excitation": result.excitation,
+        "modes": result.modes,
+        "warnings": result.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+        "options": {
+            "modes": o.modes,
+            "resonances": o.resonances,
+            "offset": o.offset,
+            "freqs": o.frequencies_hz,
+            "with_frequencies": o.with_frequencies,
+            "inverse": inverse,
+            "perturbation": perturbation,
+            "svd_eps": o.svd_eps,
+            "tol": o.tol,
+            "max_iter": o.max_iter,
+            "basis_tolerance": o.basis_tolerance,
+            "min_prominence": o.min_prominence,
+            "mac_min": o.mac_min,
+            "max_parameter": o.max_parameter,
+        },
+    })
+}
+
+/// `parameters.csv`: iteration, p̄ per parameter, SFDAC mean and min.
+pub fn parameters_csv(result: &UpdateResult) -> String {
+    let mut s = String::from("iteration");
+    for n in &result.parameter_names {
+        s.push(',');
+        s.push_str(&csv_field(n));
+    }
+    s.push_str(",sfdac_mean,sfdac_min\n");
+    for r in &result.iterations {
+        let _ = write!(s, "{}", r.index);
+        for p in &r.parameters {
+            let _ = write!(s, ",{p:.6e}");
+        }
+        let _ = writeln!(s, ",{:.6},{:.6}", r.sfdac.mean, r.sfdac.min);
+    }
+    s
+}
+
+/// `frequencies.csv`: Table 3 / Table 7 layout.
+pub fn frequencies_csv(result: &UpdateResult) -> String {
+    let rows = frequency_rows(result);
+    let mut s = String::from("mode,test_hz,initial_hz,initial_dev_pct,updated_hz,updated_dev_pct,initial_mac,updated_mac\n");
+    let cell = |x: Option<(f64, f64)>, t: f64| match x {
+        Some((f, _)) => (format!("{f:.4}"), format!("{:.3}", dev_pct(f, t))),
+        None => (String::new(), String::new()),
+    };
+    let mac = |x: Option<(f64, f64)>| x.map(|v| format!("{:.4}", v.1)).unwrap_or_default();
+    for (i, r) in rows.iter().enumerate() {
+        let (fi, di) = cell(r.initial, r.test_hz);
+        let (fu, du) = cell(r.updated, r.test_hz);
+        let _ = writeln!(
+            s,
+            "{},{:.4},{fi},{di},{fu},{du},{},{}",
+            i + 1,
+            r.test_hz,
+            mac(r.initial),
+            mac(r.updated)
+        );
+    }
+    let m = |x: Option<f64>| x.map(|v| format!("{v:.3}")).unwrap_or_default();
+    let _ = writeln!(
+        s,
+        "mean_abs,,,{},,{},,",
+        m(mean_abs_dev(&rows, false)),
+        m(mean_abs_dev(&rows, true))
+    );
+    s
+}
+
+/// `sfdac.csv`: SFDAC_i of the initial and the returned model (Table 6).
+pub fn sfdac_csv(result: &UpdateResult) -> String {
+    let first = &result.iterations[0].sfdac;
+    let last = &result.final_record().sfdac;
+    let mut s = String::from("frequency_hz,initial,updated\n");
+    for (i, f) in result.updating_frequencies.hz().iter().enumerate() {
+        let _ = writeln!(s, "{f:.4},{:.6},{:.6}", first.values[i], last.values[i]);
+    }
+    let _ = writeln!(s, "mean,{:.6},{:.6}", first.mean, last.mean);
+    let _ = writeln!(s, "min,{:.6},{:.6}", first.min, last.min);
+    s
+}
+
+/// `report.md`: a short summary for people.
+pub fn report_md(result: &UpdateResult) -> String {
+    let mut s = String::from("# FRF model updating report\n\n");
+    let last = result.final_record();
+    let _ = writeln!(
+        s,
+        "{} after {} iteration(s) ({}); returned iteration {}. SFDAC mean {:.4} → {:.4}, min {:.4} → {:.4}.\n",
+        if result.converged { "Converged" } else { "Not converged" },
+        result.iterations.len() - 1,
+        result.stop.name(),
+        result.final_iteration,
+        result.iterations[0].sfdac.mean,
+        last.sfdac.mean,
+        result.iterations[0].sfdac.min,
+        last.sfdac.min
+    );
+    let _ = writeln!(
+        s,
+        "{} measured DOFs, excitation {}, {} modes in the SEREP basis, {} updating frequencies (Hz): {}.\n",
+        result.measured_dofs.len(),
+        result.excitation,
+        result.modes,
+        result.updating_frequencies.len(),
+        result.updating_frequencies.hz().iter().map(|f| format!("{f:.3}")).collect::<Vec<_>>().join(", ")
+    );
+    s.push_str("## Parameters (relative change p̄)\n\n| iteration |");
+    for n in &result.parameter_names {
+        let _ = write!(s, " {n} |");
+    }
+    s.push_str(" SFDAC mean |\n|---|");
+    for _ in &result.parameter_names {
+        s.push_str("---|");
+    }
+    s.push_str("---|\n");
+    for r in &result.iterations {
+        let _ = write!(s, "| {} |", r.index);
+        for p in &r.parameters {
+            let _ = write!(s, " {p:.5} |");
+        }
+        let _ = writeln!(s, " {:.4} |", r.sfdac.mean);
+    }
+    s.push_str("\n## Natural frequencies (Hz)\n\n| mode | test | initial | dev % | updated | dev % |\n|---|---|---|---|---|---|\n");
+    let rows = frequency_rows(result);
+    for (i, r) in rows.iter().enumerate() {
+        let c = |x: Option<(f64, f64)>| match x {
+            Some((f, _)) => format!("{f:.3} | {:+.2}", dev_pct(f, r.test_hz)),
+            None => "– | –".to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {:.3} | {} | {} |",
+            i + 1,
+            r.test_hz,
+            c(r.initial),
+            c(r.updated)
+        );
+    }
+    if let (Some(a), Some(b)) = (mean_abs_dev(&rows, false), mean_abs_dev(&rows, true)) {
+        let _ = writeln!(s, "| mean \\|dev\\| | | | {a:.2} | | {b:.2} |");
+    }
+    if !result.warnings.is_empty() {
+        s.push_str("\n## Warnings\n\n");
+        for w in &result.warnings {
+            let _ = writeln!(s, "- {w}");
+        }
+    }
+    s
+}
+
+fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
