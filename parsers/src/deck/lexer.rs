@@ -64,7 +64,10 @@ pub(crate) fn tokenize(line: &str, line_no: u32) -> Vec<Token<'_>> {
 fn number_text(input: &str) -> IResult<&str, &str> {
     recognize((
         opt(one_of("+-")),
-        alt((recognize((digit1, opt((char('.'), digit0)))), recognize((char('.'), digit1)))),
+        alt((
+            recognize((digit1, opt((char('.'), digit0)))),
+            recognize((char('.'), digit1)),
+        )),
         opt((one_of("eEdD"), opt(one_of("+-")), digit1)),
     ))
     .parse(input)
@@ -82,12 +85,8 @@ pub(crate) fn number(text: &str) -> Option<f64> {
 
 /// A number token, or an error naming what was expected.
 pub(crate) fn number_at(text: &str, pos: Pos, what: &str) -> Result<f64, DeckError> {
-    number(text).ok_or_else(|| {
-        DeckError::new(
-            pos,
-            format!("expected a number for {what}, found `{text}`"),
-        )
-    })
+    number(text)
+        .ok_or_else(|| DeckError::new(pos, format!("expected a number for {what}, found `{text}`")))
 }
 
 fn id_value(input: &str) -> IResult<&str, u32> {
@@ -105,7 +104,10 @@ pub(crate) fn id_at(tok: &Token<'_>, what: &str) -> Result<u32, DeckError> {
     id(tok.text).ok_or_else(|| {
         DeckError::new(
             tok.pos,
-            format!("expected {what} (a positive integer ID), found `{}`", tok.text),
+            format!(
+                "expected {what} (a positive integer ID), found `{}`",
+                tok.text
+            ),
         )
     })
 }
@@ -155,7 +157,10 @@ pub(crate) fn name_at(tok: &Token<'_>, what: &str) -> Result<String, DeckError> 
     if tok.text.contains(['=', ',']) {
         return Err(DeckError::new(
             tok.pos,
-            format!("expected {what} (a name without `=` or `,`), found `{}`", tok.text),
+            format!(
+                "expected {what} (a name without `=` or `,`), found `{}`",
+                tok.text
+            ),
         ));
     }
     Ok(tok.text.to_string())

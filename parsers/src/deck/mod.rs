@@ -359,7 +359,10 @@ impl Quantity {
     }
     /// True for the section quantities (A, Iy, Iz, J).
     pub fn is_section(self) -> bool {
-        matches!(self, Quantity::A | Quantity::Iy | Quantity::Iz | Quantity::J)
+        matches!(
+            self,
+            Quantity::A | Quantity::Iy | Quantity::Iz | Quantity::J
+        )
     }
 }
 

@@ -7,7 +7,8 @@ use super::{
     Title,
 };
 
-const KEYWORDS: &str = "title, analysis, material, section, node, beam, mass, spring, fix, damping, param, sensor";
+const KEYWORDS: &str =
+    "title, analysis, material, section, node, beam, mass, spring, fix, damping, param, sensor";
 
 /// Parse every line; the first syntax error stops the parse.
 pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
@@ -45,7 +46,10 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
                 if let Some(prev) = deck.analysis_pos {
                     return Err(DeckError::new(
                         pos,
-                        format!("duplicate `analysis` statement (first at line {})", prev.line),
+                        format!(
+                            "duplicate `analysis` statement (first at line {})",
+                            prev.line
+                        ),
                     ));
                 }
                 deck.analysis = analysis;
@@ -134,7 +138,10 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
                 if let Some(prev) = deck.damping {
                     return Err(DeckError::new(
                         pos,
-                        format!("duplicate `damping` statement (first at line {})", prev.pos.line),
+                        format!(
+                            "duplicate `damping` statement (first at line {})",
+                            prev.pos.line
+                        ),
                     ));
                 }
                 deck.damping = Some(DampingStatement { model, pos });
@@ -181,15 +188,9 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
     Ok(deck)
 }
 
-/// The position just after a token (where a missing argument was expected).
+/// The column just past a token (where a missing argument was expected).
 fn end_of(tok: &Token<'_>) -> Pos {
-    tok.pos_at(tok.text.len()).with_offset(1)
-}
-
-impl Pos {
-    fn with_offset(self, by: u32) -> Pos {
-        Pos::new(self.line, self.column + by)
-    }
+    tok.pos_at(tok.text.len())
 }
 
 /// Exactly `N` positional arguments after `head`.
@@ -286,10 +287,7 @@ impl<'a> KeyValues<'a> {
 
     fn required(&self, key: &str, head: &Token<'_>, after: &Token<'_>) -> Result<f64, DeckError> {
         self.number(key)?.ok_or_else(|| {
-            DeckError::new(
-                end_of(after),
-                format!("`{}` requires `{key}=…`", head.text),
-            )
+            DeckError::new(end_of(after), format!("`{}` requires `{key}=…`", head.text))
         })
     }
 }
@@ -373,7 +371,10 @@ fn beam(head: &Token<'_>, args: &[Token<'_>]) -> Result<Beam, DeckError> {
             if parts.len() != 3 {
                 return Err(DeckError::new(
                     tok.pos,
-                    format!("expected orient=VX,VY,VZ (three numbers), found `{}`", tok.text),
+                    format!(
+                        "expected orient=VX,VY,VZ (three numbers), found `{}`",
+                        tok.text
+                    ),
                 ));
             }
             let mut v = [0.0; 3];
@@ -440,7 +441,10 @@ fn spring(head: &Token<'_>, args: &[Token<'_>]) -> Result<Spring, DeckError> {
             ),
         )
     })?;
-    let to = kv.get("to").map(|t| id_at(t, "a node ID after to=")).transpose()?;
+    let to = kv
+        .get("to")
+        .map(|t| id_at(t, "a node ID after to="))
+        .transpose()?;
     Ok(Spring {
         id: id_at(&p[0], "a spring ID")?,
         node: id_at(&p[1], "a node ID")?,

@@ -70,7 +70,10 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
             out.push(
                 m.pos,
                 Arg::Positional(0),
-                format!("duplicate material `{}` (first at line {})", m.name, prev.line),
+                format!(
+                    "duplicate material `{}` (first at line {})",
+                    m.name, prev.line
+                ),
             );
         }
         out.positive(m.pos, "E", "Young's modulus", m.e);
@@ -96,7 +99,10 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
             out.push(
                 s.pos,
                 Arg::Positional(0),
-                format!("duplicate section `{}` (first at line {})", s.name, prev.line),
+                format!(
+                    "duplicate section `{}` (first at line {})",
+                    s.name, prev.line
+                ),
             );
         }
         out.positive(s.pos, "A", "area", s.a);
@@ -332,7 +338,10 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
             out.push(
                 p.pos,
                 Arg::Positional(0),
-                format!("duplicate parameter `{}` (first at line {})", p.name, prev.line),
+                format!(
+                    "duplicate parameter `{}` (first at line {})",
+                    p.name, prev.line
+                ),
             );
         }
         if plane && matches!(p.quantity, Quantity::Iz | Quantity::J) {
@@ -394,7 +403,10 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
             out.push(
                 s.pos,
                 Arg::Positional(1),
-                format!("sensor maps test node {} to undefined node {}", s.test_node, s.node),
+                format!(
+                    "sensor maps test node {} to undefined node {}",
+                    s.test_node, s.node
+                ),
             );
         }
     }
@@ -403,7 +415,11 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
 
 /// Names are non-empty and free of blanks, `=`, `,` and `#` (so they can be written).
 fn bad_name(out: &mut Issues, pos: Pos, what: &str, name: &str) {
-    if name.is_empty() || name.chars().any(|c| c.is_whitespace() || matches!(c, '=' | ',' | '#')) {
+    if name.is_empty()
+        || name
+            .chars()
+            .any(|c| c.is_whitespace() || matches!(c, '=' | ',' | '#'))
+    {
         out.push(
             pos,
             Arg::Positional(0),
@@ -439,7 +455,10 @@ pub(crate) fn refine(issue: &Issue, source: Option<&str>) -> Pos {
         return p;
     }
     let Some(text) = source else { return issue.pos };
-    let Some(line) = text.split('\n').nth(issue.pos.line.saturating_sub(1) as usize) else {
+    let Some(line) = text
+        .split('\n')
+        .nth(issue.pos.line.saturating_sub(1) as usize)
+    else {
         return issue.pos;
     };
     let toks = tokenize(strip_comment(line), issue.pos.line);

@@ -56,7 +56,13 @@ pub fn write(deck: &Deck) -> String {
         s.push('\n');
     }
     for m in &deck.materials {
-        let _ = write!(s, "material {} E={} rho={}", name(&m.name), n(m.e), n(m.rho));
+        let _ = write!(
+            s,
+            "material {} E={} rho={}",
+            name(&m.name),
+            n(m.e),
+            n(m.rho)
+        );
         if let Some(nu) = m.nu {
             let _ = write!(s, " nu={}", n(nu));
         }
@@ -119,7 +125,14 @@ pub fn write(deck: &Deck) -> String {
         s.push('\n');
     }
     for sp in &deck.springs {
-        let _ = write!(s, "spring {} {} {} k={}", sp.id, sp.node, sp.dof.name(), n(sp.k));
+        let _ = write!(
+            s,
+            "spring {} {} {} k={}",
+            sp.id,
+            sp.node,
+            sp.dof.name(),
+            n(sp.k)
+        );
         if let Some(to) = sp.to {
             let _ = write!(s, " to={to}");
         }
