@@ -16,4 +16,5 @@ pub mod testdata;
 pub mod updating;
 
 pub use frfup_parsers as parsers;
+pub mod batch;
 pub mod commands;

@@ -94,6 +94,112 @@ enum Command {
         #[arg(long)]
         single: bool,
     },
+    /// Update the deck's parameters from measured FRFs (the paper's method).
+    Update {
+        deck: PathBuf,
+        test: PathBuf,
+        /// Output folder: report.json, CSV tables, updated.deck, report.md.
+        #[arg(long)]
+        out: PathBuf,
+        #[command(flatten)]
+        args: UpdateArgs,
+        /// Exit with code 1 if the updated mean SFDAC is below X.
+        #[arg(long, value_name = "X")]
+        fail_below_sfdac: Option<f64>,
+        /// Exit with code 1 if the updated mean |df/f| (%) is above PCT.
+        #[arg(long, value_name = "PCT")]
+        fail_above_freq_error: Option<f64>,
+    },
+    /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
+    Batch {
+        campaign: PathBuf,
+        /// Output folder: one folder per case, summary.md/.csv/.json.
+        #[arg(long)]
+        out: PathBuf,
+        /// Cases run at once.
+        #[arg(long, default_value_t = 1)]
+        jobs: usize,
+        /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
+        #[arg(long, value_name = "I/N")]
+        shard: Option<String>,
+        /// A case fails if its updated mean SFDAC is below X.
+        #[arg(long, value_name = "X")]
+        fail_below_sfdac: Option<f64>,
+        /// A case fails if its updated mean |df/f| (%) is above PCT.
+        #[arg(long, value_name = "PCT")]
+        fail_above_freq_error: Option<f64>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Inverse {
+    /// Truncated SVD at rank N_md (§3.4).
+    Svd,
+    /// Small value added to the diagonal (§3.3).
+    Perturb,
+}
+
+/// Options shared by `update` (and the cases of `batch`).
+#[derive(clap::Args, Clone)]
+struct UpdateArgs {
+    /// Modes N_md in the SEREP basis (default: min(N_ex, max(2R, R + 4))).
+    #[arg(long)]
+    modes: Option<usize>,
+    /// Measured resonances R used for the updating frequencies (default: up to 8).
+    #[arg(long)]
+    resonances: Option<usize>,
+    /// cξ of Eq. 42: updating frequencies at (1 ± C)·f_r.
+    #[arg(long, default_value_t = 0.08)]
+    offset: f64,
+    /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
+    #[arg(long, value_name = "F1,F2,...")]
+    freqs: Option<String>,
+    /// Add the natural-frequency equations (Eq. 16-22).
+    #[arg(long)]
+    with_frequencies: bool,
+    /// How the reduced dynamic stiffness is inverted.
+    #[arg(long, value_enum, default_value = "svd")]
+    inverse: Inverse,
+    /// Relative diagonal perturbation for --inverse perturb.
+    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION)]
+    perturbation: f64,
+    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E (Eq. 40).
+    #[arg(long, default_value_t = 1e-4)]
+    svd_eps: f64,
+    /// Stop when max |p_j| < T (Eq. 49).
+    #[arg(long, default_value_t = 0.01)]
+    tol: f64,
+    /// Iteration limit.
+    #[arg(long, default_value_t = 20)]
+    max_iter: usize,
+}
+
+impl UpdateArgs {
+    fn options(&self) -> Result<frfup::updating::UpdateOptions, CommandError> {
+        let mut o = frfup::updating::UpdateOptions {
+            modes: self.modes,
+            resonances: self.resonances,
+            offset: self.offset,
+            with_frequencies: self.with_frequencies,
+            svd_eps: self.svd_eps,
+            tol: self.tol,
+            max_iter: self.max_iter,
+            inverse: match self.inverse {
+                Inverse::Svd => frfup::updating::InverseMethod::Svd,
+                Inverse::Perturb => frfup::updating::InverseMethod::Perturb {
+                    relative: self.perturbation,
+                },
+            },
+            ..Default::default()
+        };
+        if let Some(f) = &self.freqs {
+            o.frequencies_hz = Some(
+                frfup::batch::campaign::parse_freqs(f)
+                    .map_err(|e| CommandError::input(format!("--{e}")))?,
+            );
+        }
+        Ok(o)
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -207,8 +313,140 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 eprintln!("wrote {n} FRF record(s) to {}", out.display());
             }
         }
+        Command::Update {
+            deck,
+            test,
+            out,
+            args,
+            fail_below_sfdac,
+            fail_above_freq_error,
+        } => {
+            let cmd = commands::update::UpdateCommand {
+                deck,
+                test,
+                out: out.clone(),
+                options: args.options()?,
+            };
+            let quiet = cli.quiet;
+            let outcome = commands::update::run(&cmd, &mut |rec| {
+                if !quiet {
+                    let step = rec.step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+                    eprintln!(
+                        "iteration {}: SFDAC mean {:.4} min {:.4}, max |p| {:.3e}",
+                        rec.index, rec.sfdac.mean, rec.sfdac.min, step
+                    );
+                }
+            })?;
+            let r = &outcome.result;
+            let last = r.final_record();
+            println!(
+                "{} after {} iteration(s): SFDAC mean {:.4} -> {:.4}, min {:.4} -> {:.4}; mean |df/f| {} -> {}",
+                r.stop.name(),
+                r.iterations.len() - 1,
+                r.iterations[0].sfdac.mean,
+                last.sfdac.mean,
+                r.iterations[0].sfdac.min,
+                last.sfdac.min,
+                pct(outcome.freq_error_initial_pct),
+                pct(outcome.freq_error_updated_pct),
+            );
+            for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
+                println!("  {name:<16} {p:+.5}");
+            }
+            println!("wrote {}", out.display());
+            let thresholds = frfup::batch::Thresholds {
+                min_sfdac: fail_below_sfdac,
+                max_freq_error_pct: fail_above_freq_error,
+            };
+            check_thresholds(&outcome, thresholds)?;
+        }
+        Command::Batch {
+            campaign,
+            out,
+            jobs,
+            shard,
+            fail_below_sfdac,
+            fail_above_freq_error,
+        } => {
+            let shard = shard
+                .map(|s| frfup::batch::Shard::parse(&s))
+                .transpose()
+                .map_err(CommandError::input)?;
+            let quiet = cli.quiet;
+            let summary = frfup::batch::run(
+                &frfup::batch::BatchOptions {
+                    campaign,
+                    out: out.clone(),
+                    jobs,
+                    shard,
+                    thresholds: frfup::batch::Thresholds {
+                        min_sfdac: fail_below_sfdac,
+                        max_freq_error_pct: fail_above_freq_error,
+                    },
+                },
+                &|c, n, total| {
+                    if !quiet {
+                        eprintln!(
+                            "[{n}/{total}] {}: {} ({:.2} s){}",
+                            c.name,
+                            c.status.name(),
+                            c.wall_time_s,
+                            match &c.status {
+                                frfup::batch::CaseStatus::Passed => String::new(),
+                                frfup::batch::CaseStatus::ThresholdFailed(r) =>
+                                    format!(": {}", r.join("; ")),
+                                frfup::batch::CaseStatus::Error(e) => format!(": {e}"),
+                            }
+                        );
+                    }
+                },
+            )?;
+            println!(
+                "{} case(s): {} passed; summary in {}",
+                summary.cases.len(),
+                summary
+                    .cases
+                    .iter()
+                    .filter(|c| c.status == frfup::batch::CaseStatus::Passed)
+                    .count(),
+                out.join("summary.md").display()
+            );
+            match summary.exit_code() {
+                0 => {}
+                1 => {
+                    return Err(CommandError::threshold(
+                        "a threshold failed (see the summary)",
+                    ))
+                }
+                _ => {
+                    return Err(CommandError::input(
+                        "a case could not run (see the summary)",
+                    ))
+                }
+            }
+        }
     }
     Ok(())
+}
+
+fn pct(x: Option<f64>) -> String {
+    x.map(|v| format!("{v:.3} %"))
+        .unwrap_or_else(|| "n/a".into())
+}
+
+fn check_thresholds(
+    outcome: &commands::update::UpdateOutcome,
+    t: frfup::batch::Thresholds,
+) -> Result<(), CommandError> {
+    let reasons = commands::update::threshold_failures(outcome, t);
+    if reasons.is_empty() {
+        Ok(())
+    } else {
+        Err(CommandError::threshold(format!(
+            "threshold failed: {}",
+            reasons.join("; ")
+        )))
+    }
 }
 
 fn main() -> ExitCode {

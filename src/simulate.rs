@@ -67,7 +67,10 @@ pub struct Campaign {
 pub enum SimulateError {
     Model(model::ModelError),
     /// A sensor or the input names a DOF the model does not have (or fixes).
-    UnknownDof { what: String, dof: NodeDirection },
+    UnknownDof {
+        what: String,
+        dof: NodeDirection,
+    },
     Invalid(String),
 }
 
@@ -93,32 +96,54 @@ pub fn simulate(
     values: &ParameterValues,
     campaign: &Campaign,
 ) -> Result<MeasuredFrfs, SimulateError> {
-    if campaign.band.count == 0 || !(campaign.band.end_hz >= campaign.band.start_hz) || campaign.band.start_hz < 0.0 {
+    if campaign.band.count == 0
+        || !(campaign.band.end_hz >= campaign.band.start_hz)
+        || campaign.band.start_hz < 0.0
+    {
         return Err(SimulateError::Invalid(format!(
             "band {}:{}:{} must have 0 <= F0 <= F1 and N >= 1",
             campaign.band.start_hz, campaign.band.end_hz, campaign.band.count
         )));
     }
     if !(campaign.noise >= 0.0 && campaign.noise.is_finite()) {
-        return Err(SimulateError::Invalid(format!("noise fraction {} must be >= 0", campaign.noise)));
+        return Err(SimulateError::Invalid(format!(
+            "noise fraction {} must be >= 0",
+            campaign.noise
+        )));
     }
     let fe = model::build(deck, values).map_err(SimulateError::Model)?;
     let (input_eq, input_sign) = fe
         .measured_dof(campaign.input.node, campaign.input.direction)
-        .ok_or(SimulateError::UnknownDof { what: "input".into(), dof: campaign.input })?;
+        .ok_or(SimulateError::UnknownDof {
+            what: "input".into(),
+            dof: campaign.input,
+        })?;
     let sensors = sensor_list(&fe, &campaign.sensors)?;
     let mut outputs = Vec::with_capacity(sensors.len());
     let mut signs = Vec::with_capacity(sensors.len());
     for s in &sensors {
         let (eq, sign) = fe
             .measured_dof(s.node, s.direction)
-            .ok_or(SimulateError::UnknownDof { what: "sensor".into(), dof: *s })?;
+            .ok_or(SimulateError::UnknownDof {
+                what: "sensor".into(),
+                dof: *s,
+            })?;
         outputs.push(eq);
         signs.push(sign);
     }
     let lines = campaign.band.lines_hz();
-    let omegas: Vec<f64> = lines.iter().map(|f| 2.0 * std::f64::consts::PI * f).collect();
-    let receptance = frf::direct_receptance(&fe.stiffness, &fe.mass, fe.damping, &omegas, input_eq, &outputs);
+    let omegas: Vec<f64> = lines
+        .iter()
+        .map(|f| 2.0 * std::f64::consts::PI * f)
+        .collect();
+    let receptance = frf::direct_receptance(
+        &fe.stiffness,
+        &fe.mass,
+        fe.damping,
+        &omegas,
+        input_eq,
+        &outputs,
+    );
     let mut rng = Gaussian::new(campaign.seed);
     let order = campaign.output.order();
     let channels = sensors
@@ -138,7 +163,8 @@ pub fn simulate(
                 })
                 .collect();
             if campaign.noise > 0.0 {
-                let rms = (values.iter().map(|v| v.norm_sqr()).sum::<f64>() / values.len() as f64).sqrt();
+                let rms =
+                    (values.iter().map(|v| v.norm_sqr()).sum::<f64>() / values.len() as f64).sqrt();
                 let sigma = campaign.noise * rms / std::f64::consts::SQRT_2;
                 for v in &mut values {
                     *v += c64::new(sigma * rng.next(), sigma * rng.next());
@@ -165,8 +191,11 @@ fn sensor_list(fe: &FeModel, sensors: &Sensors) -> Result<Vec<NodeDirection>, Si
     match sensors {
         Sensors::List(list) => Ok(list.clone()),
         Sensors::All => {
-            let to_test: std::collections::BTreeMap<u32, u32> =
-                fe.sensors.iter().map(|(&test, &node)| (node, test)).collect();
+            let to_test: std::collections::BTreeMap<u32, u32> = fe
+                .sensors
+                .iter()
+                .map(|(&test, &node)| (node, test))
+                .collect();
             Ok(fe
                 .dofs
                 .equations
@@ -183,7 +212,12 @@ fn sensor_list(fe: &FeModel, sensors: &Sensors) -> Result<Vec<NodeDirection>, Si
 
 /// Dataset 58 records of a set of FRFs (function type 4, SI units), complex
 /// double (ordinate type 6) or single (5).
-pub fn to_uff_records(frfs: &MeasuredFrfs, title: &str, double: bool, binary: bool) -> Vec<Function58> {
+pub fn to_uff_records(
+    frfs: &MeasuredFrfs,
+    title: &str,
+    double: bool,
+    binary: bool,
+) -> Vec<Function58> {
     let step = if frfs.frequencies_hz.len() > 1 {
         frfs.frequencies_hz[1] - frfs.frequencies_hz[0]
     } else {

@@ -59,7 +59,10 @@ fn output_format(path: &Path) -> Result<OutputFormat, CommandError> {
 /// Select dataset 58 records by a channel SPEC: a comma list of 1-based
 /// positions among the file's dataset 58 records or ranges (`1-4,7`), or of
 /// response DOFs `NODE:DIR` (`112:3`, `112:+z`, `5:-ry`).
-pub fn select<'a>(file: &'a UffFile, spec: Option<&str>) -> Result<Vec<&'a Function58>, CommandError> {
+pub fn select<'a>(
+    file: &'a UffFile,
+    spec: Option<&str>,
+) -> Result<Vec<&'a Function58>, CommandError> {
     let all: Vec<&Function58> = file
         .datasets
         .iter()
@@ -78,7 +81,10 @@ pub fn select<'a>(file: &'a UffFile, spec: Option<&str>) -> Result<Vec<&'a Funct
     let mut chosen: Vec<usize> = Vec::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         if let Some((node, dir)) = item.split_once(':') {
-            let node: i64 = node.trim().parse().map_err(|_| bad(item, "has no node number"))?;
+            let node: i64 = node
+                .trim()
+                .parse()
+                .map_err(|_| bad(item, "has no node number"))?;
             let dir = parse_direction(dir).ok_or_else(|| bad(item, "has no direction"))?;
             let before = chosen.len();
             for (i, f) in all.iter().enumerate() {
@@ -154,7 +160,8 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
                     .collect(),
                 notes: Vec::new(),
             };
-            let frfs = testdata::from_uff(&subset, &opts.input).map_err(|e| CommandError::input(e.to_string()))?;
+            let frfs = testdata::from_uff(&subset, &opts.input)
+                .map_err(|e| CommandError::input(e.to_string()))?;
             converted_records(&selected, &frfs, target, &mut notes)
         }
     };
@@ -162,7 +169,8 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let count = records.len();
     let written = match format {
         OutputFormat::Csv => {
-            let csv = csv_text(&records).map_err(|e| CommandError::input(format!("{}: {e}", opts.input.display())))?;
+            let csv = csv_text(&records)
+                .map_err(|e| CommandError::input(format!("{}: {e}", opts.input.display())))?;
             write_atomic_with(&opts.output, |w| w.write_all(csv.as_bytes()))
         }
         OutputFormat::Uff => {
@@ -173,7 +181,9 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
                     f
                 })
                 .collect();
-            write_atomic_with(&opts.output, |mut w| frfup_parsers::uff::write_functions(&mut w, &records))
+            write_atomic_with(&opts.output, |mut w| {
+                frfup_parsers::uff::write_functions(&mut w, &records)
+            })
         }
     };
     written.map_err(|e| CommandError::output(&opts.output, e))?;
@@ -193,7 +203,10 @@ fn converted_records(
 ) -> Vec<Function58> {
     let (values_real, kind): (Option<Vec<Vec<f64>>>, FrfKind) = match target {
         Target::Kind(kind) => (None, kind),
-        Target::DisplacementReal => (Some(testdata::signed_real_displacement(frfs)), FrfKind::Receptance),
+        Target::DisplacementReal => (
+            Some(testdata::signed_real_displacement(frfs)),
+            FrfKind::Receptance,
+        ),
     };
     let converted = match target {
         Target::Kind(kind) => {
@@ -236,8 +249,14 @@ fn converted_records(
                     f.ordinate = Ordinate::Real(real[i].clone());
                 }
                 (None, Some(c)) => {
-                    f.ordinate_type = if f.ordinate_type == 2 || f.ordinate_type == 5 { 5 } else { 6 };
-                    f.ordinate = Ordinate::Complex(c.channels[i].values.iter().map(|v| (v.re, v.im)).collect());
+                    f.ordinate_type = if f.ordinate_type == 2 || f.ordinate_type == 5 {
+                        5
+                    } else {
+                        6
+                    };
+                    f.ordinate = Ordinate::Complex(
+                        c.channels[i].values.iter().map(|v| (v.re, v.im)).collect(),
+                    );
                 }
                 (None, None) => {}
             }
@@ -262,7 +281,11 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
     }
     let abscissa = match (first.abscissa_axis.data_type, &first.abscissa) {
         (17, _) => "time_s",
-        (18, _) | (0, Abscissa::Even { .. }) | (0, Abscissa::Uneven(_)) if first.function_type != 1 => "frequency_hz",
+        (18, _) | (0, Abscissa::Even { .. }) | (0, Abscissa::Uneven(_))
+            if first.function_type != 1 =>
+        {
+            "frequency_hz"
+        }
         _ if first.function_type == 1 => "time_s",
         _ => "abscissa",
     };

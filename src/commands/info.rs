@@ -58,8 +58,16 @@ pub fn ordinate_type_name(code: i32) -> &'static str {
 fn units(f: &Function58) -> String {
     let num = f.numerator_axis.units_label.trim();
     let den = f.denominator_axis.units_label.trim();
-    let num = if num.is_empty() || num.eq_ignore_ascii_case("none") { "" } else { num };
-    let den = if den.is_empty() || den.eq_ignore_ascii_case("none") { "" } else { den };
+    let num = if num.is_empty() || num.eq_ignore_ascii_case("none") {
+        ""
+    } else {
+        num
+    };
+    let den = if den.is_empty() || den.eq_ignore_ascii_case("none") {
+        ""
+    } else {
+        den
+    };
     match (num.is_empty(), den.is_empty()) {
         (true, true) => "-".to_string(),
         (false, true) => num.to_string(),
@@ -76,7 +84,9 @@ fn band(f: &Function58) -> (f64, f64) {
         Abscissa::Even { .. } => (f.abscissa_at(0), f.abscissa_at(f.len() - 1)),
         Abscissa::Uneven(x) => x
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| (lo.min(v), hi.max(v))),
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
+                (lo.min(v), hi.max(v))
+            }),
     }
 }
 
@@ -92,7 +102,8 @@ pub fn table(file: &UffFile) -> String {
         match d {
             Dataset::Function(f) => {
                 let (lo, hi) = band(f);
-                let unit = if f.abscissa_axis.units_label.trim().is_empty() {
+                let label = f.abscissa_axis.units_label.trim();
+                let unit = if label.is_empty() || label.eq_ignore_ascii_case("none") {
                     String::new()
                 } else {
                     format!(" {}", f.abscissa_axis.units_label.trim())
@@ -104,8 +115,16 @@ pub fn table(file: &UffFile) -> String {
                     if f.binary { "58b" } else { "58" },
                     dof_label(f.response_node, f.response_direction),
                     dof_label(f.reference_node, f.reference_direction),
-                    format!("{} {}", f.function_type, function_type_name(f.function_type)),
-                    format!("{} {}", f.ordinate_type, ordinate_type_name(f.ordinate_type)),
+                    format!(
+                        "{} {}",
+                        f.function_type,
+                        function_type_name(f.function_type)
+                    ),
+                    format!(
+                        "{} {}",
+                        f.ordinate_type,
+                        ordinate_type_name(f.ordinate_type)
+                    ),
                     f.len(),
                     format!("{}..{}{}", fmt_num(lo), fmt_num(hi), unit),
                     units(f)

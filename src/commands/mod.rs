@@ -3,10 +3,11 @@
 //! message and an exit code (0 fine, 1 a threshold failed, 2 bad input or usage).
 
 pub mod convert;
-pub mod modes;
-pub mod simulate;
 pub mod info;
+pub mod modes;
 pub mod progress;
+pub mod simulate;
+pub mod update;
 
 /// A failed command: what to print and which exit code to use.
 #[derive(Debug)]
@@ -61,18 +62,23 @@ pub fn read_uff(
 
 /// Read and parse a deck; errors read `FILE:LINE:COLUMN: what was expected`.
 pub fn read_deck(path: &std::path::Path) -> Result<frfup_parsers::deck::Deck, CommandError> {
-    let bytes = std::fs::read(path).map_err(|e| CommandError::input(format!("{}: cannot read: {e}", path.display())))?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| CommandError::input(format!("{}: cannot read: {e}", path.display())))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let offset = e.utf8_error().valid_up_to();
-        let line = e.as_bytes()[..offset].iter().filter(|&&b| b == b'\n').count() + 1;
+        let line = e.as_bytes()[..offset]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1;
         CommandError::input(format!(
             "{}:{line}: the deck is not UTF-8 text (invalid byte at offset {offset})",
             path.display()
         ))
     })?;
-    frfup_parsers::deck::parse(&text).map_err(|e| CommandError::input(format!("{}:{e}", path.display())))
+    frfup_parsers::deck::parse(&text)
+        .map_err(|e| CommandError::input(format!("{}:{e}", path.display())))
 }
-
 
 /// A model-building error, prefixed with the deck's file name
 /// (`FILE:LINE:COLUMN: ...` where a statement is at fault).

@@ -64,7 +64,11 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
             ModeRow {
                 mode: r + 1,
                 frequency_hz: freqs[r],
-                generalised_mass: if peak > 0.0 { 1.0 / (peak * peak) } else { f64::NAN },
+                generalised_mass: if peak > 0.0 {
+                    1.0 / (peak * peak)
+                } else {
+                    f64::NAN
+                },
             }
         })
         .collect())
@@ -72,9 +76,16 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
 
 /// The table printed by `frfup modes`.
 pub fn table(rows: &[ModeRow]) -> String {
-    let mut s = format!("{:>5}  {:>14}  {:>20}\n", "mode", "frequency_hz", "generalised_mass_kg");
+    let mut s = format!(
+        "{:>5}  {:>14}  {:>20}\n",
+        "mode", "frequency_hz", "generalised_mass_kg"
+    );
     for r in rows {
-        let _ = writeln!(s, "{:>5}  {:>14.6}  {:>20.6e}", r.mode, r.frequency_hz, r.generalised_mass);
+        let _ = writeln!(
+            s,
+            "{:>5}  {:>14.6}  {:>20.6e}",
+            r.mode, r.frequency_hz, r.generalised_mass
+        );
     }
     s
 }
@@ -83,7 +94,11 @@ pub fn table(rows: &[ModeRow]) -> String {
 pub fn csv_text(rows: &[ModeRow]) -> String {
     let mut s = String::from("mode,frequency_hz,generalised_mass_kg\n");
     for r in rows {
-        let _ = writeln!(s, "{},{:e},{:e}", r.mode, r.frequency_hz, r.generalised_mass);
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e}",
+            r.mode, r.frequency_hz, r.generalised_mass
+        );
     }
     s
 }
@@ -101,9 +116,11 @@ pub fn run(opts: &ModesOptions) -> Result<String, CommandError> {
 pub fn parse_settings(settings: &[String]) -> Result<ParameterValues, CommandError> {
     let mut values = ParameterValues::new();
     for s in settings {
-        let (name, value) = s
-            .split_once('=')
-            .ok_or_else(|| CommandError::input(format!("--set {s:?}: expected NAME=VALUE (relative change, e.g. p3=1.0)")))?;
+        let (name, value) = s.split_once('=').ok_or_else(|| {
+            CommandError::input(format!(
+                "--set {s:?}: expected NAME=VALUE (relative change, e.g. p3=1.0)"
+            ))
+        })?;
         let v: f64 = value
             .trim()
             .parse()
@@ -119,14 +136,22 @@ pub fn parse_settings(settings: &[String]) -> Result<ParameterValues, CommandErr
 }
 
 /// Check that every `--set` name is a parameter of the deck.
-pub fn check_settings(path: &Path, deck: &frfup_parsers::deck::Deck, values: &ParameterValues) -> Result<(), CommandError> {
+pub fn check_settings(
+    path: &Path,
+    deck: &frfup_parsers::deck::Deck,
+    values: &ParameterValues,
+) -> Result<(), CommandError> {
     let names = model::parameter_names(deck);
     for name in values.keys() {
         if !names.iter().any(|n| n == name) {
             return Err(CommandError::input(format!(
                 "{}: --set {name}: the deck has no parameter {name:?} (it has: {})",
                 path.display(),
-                if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
             )));
         }
     }

@@ -18,7 +18,9 @@ pub struct Progress {
 impl Progress {
     /// Bars only on an interactive terminal, outside CI, without `--quiet`.
     pub fn detect(quiet: bool) -> Self {
-        let ci = std::env::var("CI").map(|v| !v.is_empty() && v != "false" && v != "0").unwrap_or(false);
+        let ci = std::env::var("CI")
+            .map(|v| !v.is_empty() && v != "false" && v != "0")
+            .unwrap_or(false);
         Progress {
             enabled: !quiet && !ci && std::io::stderr().is_terminal(),
         }
@@ -62,8 +64,10 @@ pub fn read_with_progress(path: &Path, progress: Progress) -> std::io::Result<Ve
     }
     let bar = ProgressBar::new(len);
     bar.set_style(
-        ProgressStyle::with_template("reading {msg} {bar:40} {bytes}/{total_bytes} {bytes_per_sec}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        ProgressStyle::with_template(
+            "reading {msg} {bar:40} {bytes}/{total_bytes} {bytes_per_sec}",
+        )
+        .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     bar.set_message(path.display().to_string());
     let mut bytes = Vec::with_capacity(len as usize);

@@ -23,7 +23,11 @@ pub struct SimulateOptions {
 
 /// `NODE:DIR`, DIR a UFF code (3, -3) or a name (+z, -ry).
 pub fn parse_node_direction(s: &str, what: &str) -> Result<NodeDirection, CommandError> {
-    let bad = || CommandError::input(format!("{what} {s:?}: expected NODE:DIR such as 112:3, 112:-3 or 112:+z"));
+    let bad = || {
+        CommandError::input(format!(
+            "{what} {s:?}: expected NODE:DIR such as 112:3, 112:-3 or 112:+z"
+        ))
+    };
     let (node, dir) = s.split_once(':').ok_or_else(bad)?;
     let node: u32 = node.trim().parse().map_err(|_| bad())?;
     let direction = parse_direction(dir).ok_or_else(bad)?;
@@ -32,7 +36,11 @@ pub fn parse_node_direction(s: &str, what: &str) -> Result<NodeDirection, Comman
 
 /// `F0:F1:N`.
 pub fn parse_band(s: &str) -> Result<Band, CommandError> {
-    let bad = || CommandError::input(format!("--band {s:?}: expected F0:F1:N in Hz, e.g. 0:200:801"));
+    let bad = || {
+        CommandError::input(format!(
+            "--band {s:?}: expected F0:F1:N in Hz, e.g. 0:200:801"
+        ))
+    };
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
         return Err(bad());
@@ -43,7 +51,11 @@ pub fn parse_band(s: &str) -> Result<Band, CommandError> {
     if !(start_hz >= 0.0 && end_hz >= start_hz && end_hz.is_finite() && count >= 1) {
         return Err(bad());
     }
-    Ok(Band { start_hz, end_hz, count })
+    Ok(Band {
+        start_hz,
+        end_hz,
+        count,
+    })
 }
 
 /// `all` or a comma list of NODE:DIR.
@@ -67,8 +79,10 @@ pub fn run(opts: &SimulateOptions) -> Result<usize, CommandError> {
         .map_err(|e| CommandError::input(format!("{}: {e}", opts.deck.display())))?;
     let title = deck_title(&deck, &opts.deck);
     let records = simulate::to_uff_records(&frfs, &title, !opts.single, opts.binary);
-    write_atomic_with(&opts.out, |mut w| frfup_parsers::uff::write_functions(&mut w, &records))
-        .map_err(|e| CommandError::output(&opts.out, e))?;
+    write_atomic_with(&opts.out, |mut w| {
+        frfup_parsers::uff::write_functions(&mut w, &records)
+    })
+    .map_err(|e| CommandError::output(&opts.out, e))?;
     Ok(records.len())
 }
 
@@ -76,5 +90,9 @@ fn deck_title(deck: &frfup_parsers::deck::Deck, path: &std::path::Path) -> Strin
     deck.titles
         .first()
         .map(|t| t.text.clone())
-        .unwrap_or_else(|| path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default())
+        .unwrap_or_else(|| {
+            path.file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default()
+        })
 }

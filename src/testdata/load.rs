@@ -3,7 +3,10 @@
 use std::path::{Path, PathBuf};
 
 use faer::c64;
-use frfup_parsers::uff::{Dataset, Function58, Ordinate, UffError, UffFile};
+use frfup_parsers::uff::units::{ordinate_si_factor, units_label_si_factor, Units164};
+use frfup_parsers::uff::{
+    Dataset, Function58, Ordinate, OtherDataset, OtherKind, UffError, UffFile,
+};
 
 use super::{Channel, FrfKind, MeasuredFrfs};
 
@@ -14,7 +17,10 @@ pub const FUNCTION_TYPE_FRF: i32 = 4;
 #[derive(Debug)]
 pub enum TestDataError {
     /// The file could not be opened or read.
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The file is not valid UFF.
     Uff { path: PathBuf, source: UffError },
     /// The file holds no usable FRF record.
@@ -28,7 +34,8 @@ impl std::fmt::Display for TestDataError {
         match self {
             TestDataError::Io { path, source } => write!(f, "{}: {source}", path.display()),
             TestDataError::Uff { path, source } => write!(f, "{}: {source}", path.display()),
-            TestDataError::NoFrfs { path, detail } | TestDataError::Inconsistent { path, detail } => {
+            TestDataError::NoFrfs { path, detail }
+            | TestDataError::Inconsistent { path, detail } => {
                 write!(f, "{}: {detail}", path.display())
             }
         }
@@ -76,23 +83,37 @@ pub fn record_kind(f: &Function58) -> Option<FrfKind> {
     }
 }
 
+/// The factor that takes the ordinate of `f` to SI: the unit exponents of
+/// records 9–10 under the file's dataset 164 units, times standard gravity for
+/// a numerator labelled in g (e.g. `g/N`).
+pub fn si_factor(f: &Function58, units: &Units164) -> f64 {
+    let g = units_label_si_factor(&f.numerator_axis.units_label).unwrap_or(1.0);
+    ordinate_si_factor(f, units) * g
+}
+
 /// Gather the FRF records (function type 4) of `file` into channels on a
 /// common frequency axis. `path` only names the file in errors.
 pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataError> {
-    let records: Vec<(usize, &Function58)> = file
-        .datasets
-        .iter()
-        .enumerate()
-        .filter_map(|(i, d)| match d {
-            Dataset::Function(f) if f.function_type == FUNCTION_TYPE_FRF => Some((i, f.as_ref())),
-            _ => None,
-        })
-        .collect();
+    // Dataset 164 sets the units of the datasets that follow it.
+    let mut units = Units164::si();
+    let mut records: Vec<(usize, &Function58, f64)> = Vec::new();
+    for (i, d) in file.datasets.iter().enumerate() {
+        match d {
+            Dataset::Other(OtherDataset {
+                kind: OtherKind::Units(u),
+                ..
+            }) => units = u.clone(),
+            Dataset::Function(f) if f.function_type == FUNCTION_TYPE_FRF => {
+                records.push((i, f.as_ref(), si_factor(f, &units)));
+            }
+            _ => {}
+        }
+    }
     let inconsistent = |detail: String| TestDataError::Inconsistent {
         path: path.to_path_buf(),
         detail,
     };
-    let Some(&(first_index, first)) = records.first() else {
+    let Some(&(first_index, first, _)) = records.first() else {
         let n58 = file
             .datasets
             .iter()
@@ -117,9 +138,12 @@ pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataErr
     })?;
     let n = first.len();
     let frequencies_hz: Vec<f64> = (0..n).map(|i| first.abscissa_at(i)).collect();
-    let scale = frequencies_hz.iter().fold(0.0f64, |a, &b| a.max(b.abs())).max(1e-300);
+    let scale = frequencies_hz
+        .iter()
+        .fold(0.0f64, |a, &b| a.max(b.abs()))
+        .max(1e-300);
     let mut channels = Vec::with_capacity(records.len());
-    for &(index, f) in &records {
+    for &(index, f, factor) in &records {
         if f.len() != n {
             return Err(inconsistent(format!(
                 "dataset #{} has {} frequency lines, dataset #{} has {n}: all FRFs must share one frequency axis",
@@ -128,7 +152,9 @@ pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataErr
                 first_index + 1
             )));
         }
-        if let Some(line) = (0..n).find(|&i| (f.abscissa_at(i) - frequencies_hz[i]).abs() > 1e-9 * scale) {
+        if let Some(line) =
+            (0..n).find(|&i| (f.abscissa_at(i) - frequencies_hz[i]).abs() > 1e-9 * scale)
+        {
             return Err(inconsistent(format!(
                 "dataset #{} line {} is at {} Hz, dataset #{} at {} Hz: all FRFs must share one frequency axis",
                 index + 1,
@@ -149,8 +175,11 @@ pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataErr
             )));
         }
         let values = match &f.ordinate {
-            Ordinate::Real(v) => v.iter().map(|&re| c64::new(re, 0.0)).collect(),
-            Ordinate::Complex(v) => v.iter().map(|&(re, im)| c64::new(re, im)).collect(),
+            Ordinate::Real(v) => v.iter().map(|&re| c64::new(re * factor, 0.0)).collect(),
+            Ordinate::Complex(v) => v
+                .iter()
+                .map(|&(re, im)| c64::new(re * factor, im * factor))
+                .collect(),
         };
         channels.push(Channel {
             response_node: f.response_node,

@@ -1,0 +1,298 @@
+//! Campaign files of `frfup batch`: TOML with one `[[case]]` table per case.
+//!
+//! ```toml
+//! fail_below_sfdac = 0.9          # optional campaign-wide thresholds
+//! fail_above_freq_error = 2.0     # mean |Δf/f| in %
+//!
+//! [[case]]
+//! name = "cantilever"
+//! model = "beam.deck"             # paths relative to the campaign file
+//! test = "beam-test.uff"
+//! modes = 12                      # any `frfup update` option under its long name
+//! offset = 0.08
+//! freqs = [6.0, 24.0]             # or "6,24"
+//! with-frequencies = true
+//! fail_below_sfdac = 0.95         # per-case thresholds override the campaign's
+//! ```
+
+use std::path::{Path, PathBuf};
+
+use crate::updating::{InverseMethod, UpdateOptions};
+
+/// Pass/fail thresholds of a case.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Thresholds {
+    /// Fail if the updated mean SFDAC is below this.
+    pub min_sfdac: Option<f64>,
+    /// Fail if the updated mean |Δf/f| (%) is above this.
+    pub max_freq_error_pct: Option<f64>,
+}
+
+impl Thresholds {
+    /// `self` where set, else `fallback`.
+    pub fn or(self, fallback: Thresholds) -> Thresholds {
+        Thresholds {
+            min_sfdac: self.min_sfdac.or(fallback.min_sfdac),
+            max_freq_error_pct: self.max_freq_error_pct.or(fallback.max_freq_error_pct),
+        }
+    }
+}
+
+/// One case of a campaign.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Case {
+    /// 0-based position in the campaign file.
+    pub index: usize,
+    pub name: String,
+    pub model: PathBuf,
+    pub test: PathBuf,
+    pub options: UpdateOptions,
+    pub thresholds: Thresholds,
+}
+
+/// A parsed campaign.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Campaign {
+    pub cases: Vec<Case>,
+    pub thresholds: Thresholds,
+}
+
+/// Why a campaign file could not be read.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CampaignError {
+    pub message: String,
+}
+
+impl std::fmt::Display for CampaignError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for CampaignError {}
+
+const THRESHOLD_KEYS: [&str; 2] = ["fail_below_sfdac", "fail_above_freq_error"];
+
+/// Parse a campaign; `path` names the file in errors and anchors relative paths.
+pub fn parse(text: &str, path: &Path) -> Result<Campaign, CampaignError> {
+    let err = |m: String| CampaignError {
+        message: format!("{}: {m}", path.display()),
+    };
+    let table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
+        let msg = e.to_string();
+        let line = e
+            .span()
+            .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+        match line {
+            Some(l) => err(format!("line {l}: {}", msg.trim())),
+            None => err(msg.trim().to_string()),
+        }
+    })?;
+    let base = path.parent().unwrap_or(Path::new("."));
+    for key in table.keys() {
+        if key != "case" && !THRESHOLD_KEYS.contains(&key.as_str()) {
+            return Err(err(format!(
+                "unknown top-level key `{key}`: expected [[case]] tables and optional fail_below_sfdac, fail_above_freq_error"
+            )));
+        }
+    }
+    let thresholds = thresholds(&table, "campaign").map_err(err)?;
+    let cases_value = table.get("case").ok_or_else(|| {
+        err("no [[case]] table: a campaign lists its cases as [[case]] tables".into())
+    })?;
+    let cases_array = cases_value
+        .as_array()
+        .ok_or_else(|| err("`case` must be an array of tables ([[case]])".into()))?;
+    let mut cases = Vec::with_capacity(cases_array.len());
+    for (index, v) in cases_array.iter().enumerate() {
+        let t = v
+            .as_table()
+            .ok_or_else(|| err(format!("case #{} is not a table", index + 1)))?;
+        cases.push(case(index, t, base).map_err(err)?);
+    }
+    let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
+    names.sort_unstable();
+    if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+        return Err(err(format!(
+            "two cases are named {:?}: names give the output folders and must differ",
+            w[0]
+        )));
+    }
+    Ok(Campaign { cases, thresholds })
+}
+
+fn thresholds(t: &toml::Table, what: &str) -> Result<Thresholds, String> {
+    Ok(Thresholds {
+        min_sfdac: opt_f64(t, "fail_below_sfdac", what)?,
+        max_freq_error_pct: opt_f64(t, "fail_above_freq_error", what)?,
+    })
+}
+
+fn opt_f64(t: &toml::Table, key: &str, what: &str) -> Result<Option<f64>, String> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(toml::Value::Float(x)) => Ok(Some(*x)),
+        Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
+        Some(v) => Err(format!("{what}: `{key}` must be a number, found {v}")),
+    }
+}
+
+fn opt_usize(t: &toml::Table, key: &str, what: &str) -> Result<Option<usize>, String> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(toml::Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
+        Some(v) => Err(format!(
+            "{what}: `{key}` must be a non-negative integer, found {v}"
+        )),
+    }
+}
+
+fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
+    let what = format!("case #{}", index + 1);
+    let string = |key: &str| -> Result<String, String> {
+        match t.get(key) {
+            Some(toml::Value::String(s)) if !s.trim().is_empty() => Ok(s.clone()),
+            Some(v) => Err(format!(
+                "{what}: `{key}` must be a non-empty string, found {v}"
+            )),
+            None => Err(format!("{what}: missing `{key}`")),
+        }
+    };
+    let name = string("name")?;
+    if name.contains(['/', '\\']) || name == "." || name == ".." {
+        return Err(format!(
+            "{what}: name {name:?} must not contain path separators (it names the case's folder)"
+        ));
+    }
+    let what = format!("case #{} ({name})", index + 1);
+    let model = base.join(string("model")?);
+    let test = base.join(string("test")?);
+    const KNOWN: [&str; 17] = [
+        "name",
+        "model",
+        "test",
+        "modes",
+        "resonances",
+        "offset",
+        "freqs",
+        "with-frequencies",
+        "inverse",
+        "perturbation",
+        "svd-eps",
+        "tol",
+        "max-iter",
+        "fail_below_sfdac",
+        "fail_above_freq_error",
+        "fail-below-sfdac",
+        "fail-above-freq-error",
+    ];
+    for key in t.keys() {
+        if !KNOWN.contains(&key.as_str()) {
+            return Err(format!(
+                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, inverse, perturbation, svd-eps, tol, max-iter) or a threshold"
+            ));
+        }
+    }
+    let mut o = UpdateOptions::default();
+    o.modes = opt_usize(t, "modes", &what)?;
+    o.resonances = opt_usize(t, "resonances", &what)?;
+    if let Some(x) = opt_f64(t, "offset", &what)? {
+        o.offset = x;
+    }
+    if let Some(v) = t.get("freqs") {
+        o.frequencies_hz = Some(match v {
+            toml::Value::Array(a) => a
+                .iter()
+                .map(|x| match x {
+                    toml::Value::Float(f) => Ok(*f),
+                    toml::Value::Integer(i) => Ok(*i as f64),
+                    other => Err(format!("{what}: `freqs` must hold numbers, found {other}")),
+                })
+                .collect::<Result<Vec<f64>, String>>()?,
+            toml::Value::String(s) => parse_freqs(s).map_err(|e| format!("{what}: {e}"))?,
+            other => Err(format!(
+                "{what}: `freqs` must be a list of numbers, found {other}"
+            ))?,
+        });
+    }
+    if let Some(v) = t.get("with-frequencies") {
+        o.with_frequencies = v
+            .as_bool()
+            .ok_or_else(|| format!("{what}: `with-frequencies` must be true or false"))?;
+    }
+    let perturbation = opt_f64(t, "perturbation", &what)?;
+    if let Some(v) = t.get("inverse") {
+        o.inverse = match v.as_str() {
+            Some("svd") => InverseMethod::Svd,
+            Some("perturb") => InverseMethod::Perturb {
+                relative: perturbation.unwrap_or(crate::updating::DEFAULT_PERTURBATION),
+            },
+            _ => {
+                return Err(format!(
+                    "{what}: `inverse` must be \"svd\" or \"perturb\", found {v}"
+                ))
+            }
+        };
+    }
+    if let Some(x) = opt_f64(t, "svd-eps", &what)? {
+        o.svd_eps = x;
+    }
+    if let Some(x) = opt_f64(t, "tol", &what)? {
+        o.tol = x;
+    }
+    if let Some(x) = opt_usize(t, "max-iter", &what)? {
+        o.max_iter = x;
+    }
+    let mut th = thresholds(t, &what)?;
+    th.min_sfdac = th.min_sfdac.or(opt_f64(t, "fail-below-sfdac", &what)?);
+    th.max_freq_error_pct = th
+        .max_freq_error_pct
+        .or(opt_f64(t, "fail-above-freq-error", &what)?);
+    Ok(Case {
+        index,
+        name,
+        model,
+        test,
+        options: o,
+        thresholds: th,
+    })
+}
+
+/// `F1,F2,...` in Hz.
+pub fn parse_freqs(s: &str) -> Result<Vec<f64>, String> {
+    s.split(',')
+        .map(str::trim)
+        .filter(|t| !t.is_empty())
+        .map(|t| {
+            t.parse::<f64>()
+                .ok()
+                .filter(|f| f.is_finite() && *f > 0.0)
+                .ok_or_else(|| format!("freqs: {t:?} is not a positive frequency in Hz"))
+        })
+        .collect()
+}
+
+/// `I/N` (1-based I): this machine runs the cases whose 0-based index i has i mod N = I − 1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    pub fn parse(s: &str) -> Result<Shard, String> {
+        let bad = || format!("--shard {s:?}: expected I/N with 1 <= I <= N, e.g. 2/4");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let index: usize = i.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if count == 0 || index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// Whether the case at 0-based position `case_index` belongs to this shard.
+    pub fn contains(&self, case_index: usize) -> bool {
+        case_index % self.count == self.index - 1
+    }
+}

@@ -1,0 +1,102 @@
+//! `frfup update MODEL.deck TEST.uff --out DIR [...]`: the paper's FRF updating,
+//! its tables and the updated deck.
+
+use std::path::{Path, PathBuf};
+
+use super::{read_deck, CommandError};
+use crate::testdata;
+use crate::updating::{self, UpdateOptions, UpdateResult};
+
+/// Options of `frfup update`.
+#[derive(Clone, Debug)]
+pub struct UpdateCommand {
+    pub deck: PathBuf,
+    pub test: PathBuf,
+    pub out: PathBuf,
+    pub options: UpdateOptions,
+}
+
+/// What an update produced, for summaries and thresholds.
+#[derive(Clone, Debug)]
+pub struct UpdateOutcome {
+    pub result: UpdateResult,
+    /// Mean |Δf/f| (%) over the paired test resonances, initial and updated model.
+    pub freq_error_initial_pct: Option<f64>,
+    pub freq_error_updated_pct: Option<f64>,
+    pub files: Vec<PathBuf>,
+}
+
+/// Mean |f_FE − f_test| / f_test in % over the test resonances paired with an FE mode
+/// in iteration `record`.
+pub fn mean_frequency_error_pct(result: &UpdateResult, record: usize) -> Option<f64> {
+    let rec = result.iterations.get(record)?;
+    let mut sum = 0.0;
+    let mut n = 0usize;
+    for (res, pair) in result.resonances.iter().zip(&rec.pairs) {
+        if let Some(p) = pair {
+            sum += ((p.fe_hz - res.frequency_hz) / res.frequency_hz).abs();
+            n += 1;
+        }
+    }
+    (n > 0).then(|| 100.0 * sum / n as f64)
+}
+
+/// Run an update and write its files into `out`.
+pub fn run(
+    cmd: &UpdateCommand,
+    progress: &mut dyn FnMut(&updating::IterationRecord),
+) -> Result<UpdateOutcome, CommandError> {
+    let deck = read_deck(&cmd.deck)?;
+    let test = testdata::load(&cmd.test).map_err(|e| CommandError::input(e.to_string()))?;
+    let result =
+        updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {
+            CommandError::input(format!(
+                "{} with {}: {e}",
+                cmd.deck.display(),
+                cmd.test.display()
+            ))
+        })?;
+    std::fs::create_dir_all(&cmd.out).map_err(|e| CommandError::output(&cmd.out, e))?;
+    updating::write_outputs(&result, &deck, &cmd.out)
+        .map_err(|e| CommandError::output(&cmd.out, e))?;
+    let files = list_files(&cmd.out);
+    Ok(UpdateOutcome {
+        freq_error_initial_pct: mean_frequency_error_pct(&result, 0),
+        freq_error_updated_pct: mean_frequency_error_pct(&result, result.final_iteration),
+        result,
+        files,
+    })
+}
+
+fn list_files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// The thresholds an update fails, in words (empty: all passed).
+pub fn threshold_failures(outcome: &UpdateOutcome, t: crate::batch::Thresholds) -> Vec<String> {
+    let last = outcome.result.final_record();
+    let mut reasons = Vec::new();
+    if let Some(min) = t.min_sfdac {
+        if !(last.sfdac.mean >= min) {
+            reasons.push(format!("mean SFDAC {:.4} < {min}", last.sfdac.mean));
+        }
+    }
+    if let Some(max) = t.max_freq_error_pct {
+        match outcome.freq_error_updated_pct {
+            Some(e) if e <= max => {}
+            Some(e) => reasons.push(format!("mean |df/f| {e:.3} % > {max} %")),
+            None => reasons
+                .push("no test resonance paired with an FE mode: frequency error unknown".into()),
+        }
+    }
+    reasons
+}
