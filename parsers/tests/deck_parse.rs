@@ -441,3 +441,13 @@ fn numbers_are_written_with_full_precision() {
     assert_eq!(format_number(2700.0), "2700");
     assert_eq!(format_number(7.2e10), "7.2e10");
 }
+
+#[test]
+fn the_documentation_example_parses() {
+    let doc = include_str!("../../docs/deck.md");
+    let start = doc.find("```text\n").unwrap() + 8;
+    let end = start + doc[start..].find("```").unwrap();
+    let d = parse(&doc[start..end]).unwrap();
+    assert_eq!(d.analysis, Analysis::Plane);
+    assert_eq!(d.params.len(), 2);
+}
