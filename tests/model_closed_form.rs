@@ -251,10 +251,16 @@ fn rayleigh_beam_limit_of_timoshenko() {
     let mut prev = 1.0;
     for n in [4, 8, 16, 32] {
         let bc = format!("fix 1 z\nfix {} z\n", n + 1);
-        let props = format!("material mat E={E:e} rho={RHO} G=1e22\nsection sec A={a:e} Iy={i:e} Iz={i:e} J={:e}\n", 2.0 * i);
+        let props = format!(
+            "material mat E={E:e} rho={RHO} G=1e22\nsection sec A={a:e} Iy={i:e} Iz={i:e} J={:e}\n",
+            2.0 * i
+        );
         let f = plane_bending(n, l, "theory=timoshenko", &props, &bc);
         let e = rel(f[0], exact);
-        println!("Rayleigh beam n={n}: rel. error {e:.3e} ratio {:.2}", prev / e);
+        println!(
+            "Rayleigh beam n={n}: rel. error {e:.3e} ratio {:.2}",
+            prev / e
+        );
         if n >= 16 {
             assert!((12.0..20.0).contains(&(prev / e)));
         }

@@ -20,7 +20,9 @@ use super::elements::beam::{local_mass, local_stiffness, Matrix12};
 use super::elements::frame::{local_frame, to_global, FrameError, LocalFrame};
 use super::elements::lumped::{mass_terms, spring_pair};
 use super::properties::{beam_properties, check_values, factors, Factors, Indices};
-use super::{sensitivity, Damping, Dof, DofMap, FeModel, ModelError, ParameterValues, SparseMatrix};
+use super::{
+    sensitivity, Damping, Dof, DofMap, FeModel, ModelError, ParameterValues, SparseMatrix,
+};
 
 /// No equation.
 pub(crate) const NONE: usize = usize::MAX;
@@ -89,7 +91,12 @@ fn frames(deck: &Deck, node_index: &HashMap<u32, usize>) -> Result<Vec<LocalFram
     let mut out = Vec::with_capacity(deck.beams.len());
     let mut first: Option<(Pos, ModelError)> = None;
     for b in &deck.beams {
-        let xyz = |id: u32| node_index.get(&id).map(|&i| deck.nodes[i].xyz).unwrap_or([0.0; 3]);
+        let xyz = |id: u32| {
+            node_index
+                .get(&id)
+                .map(|&i| deck.nodes[i].xyz)
+                .unwrap_or([0.0; 3])
+        };
         match local_frame(xyz(b.nodes[0]), xyz(b.nodes[1]), b.orient.map(|o| o.vector)) {
             Ok(f) => out.push(f),
             Err(e) => {
@@ -120,10 +127,7 @@ fn frames(deck: &Deck, node_index: &HashMap<u32, usize>) -> Result<Vec<LocalFram
 }
 
 /// Active and fixed DOFs → equation numbers and the DOF map.
-fn number_dofs(
-    deck: &Deck,
-    node_index: &HashMap<u32, usize>,
-) -> (Vec<[usize; 6]>, DofMap, bool) {
+fn number_dofs(deck: &Deck, node_index: &HashMap<u32, usize>) -> (Vec<[usize; 6]>, DofMap, bool) {
     let n = deck.nodes.len();
     let mut active = vec![[false; 6]; n];
     let analysis_dofs = deck.analysis.dofs();
@@ -189,24 +193,40 @@ fn number_dofs(
 }
 
 /// Global 12×12 stiffness and mass of beam `b` at the layout's factors.
-pub(crate) fn beam_matrices(deck: &Deck, layout: &Layout, b: usize) -> (Matrix12<f64>, Matrix12<f64>) {
+pub(crate) fn beam_matrices(
+    deck: &Deck,
+    layout: &Layout,
+    b: usize,
+) -> (Matrix12<f64>, Matrix12<f64>) {
     let beam = &deck.beams[b];
     let frame = &layout.frames[b];
-    let (Some(mat), Some(sec)) = (deck.material(&beam.material), deck.section(&beam.section)) else {
+    let (Some(mat), Some(sec)) = (deck.material(&beam.material), deck.section(&beam.section))
+    else {
         // Unreachable after validation; an empty element keeps this panic-free.
         return (Matrix12::zeros(), Matrix12::zeros());
     };
     let p = beam_properties::<f64>(mat, sec, layout.factors.beam[b]);
     let k = local_stiffness(&p, frame.length, beam.theory());
     let m = local_mass(&p, frame.length, beam.theory());
-    (to_global(&k, &frame.rotation), to_global(&m, &frame.rotation))
+    (
+        to_global(&k, &frame.rotation),
+        to_global(&m, &frame.rotation),
+    )
 }
 
 /// Check the deck and values, number the DOFs, form the local axes.
-pub(crate) fn layout(deck: &Deck, values: &ParameterValues) -> Result<(Layout, DofMap, bool), ModelError> {
+pub(crate) fn layout(
+    deck: &Deck,
+    values: &ParameterValues,
+) -> Result<(Layout, DofMap, bool), ModelError> {
     deck.validate()?;
     check_values(deck, values)?;
-    let node_index: HashMap<u32, usize> = deck.nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect();
+    let node_index: HashMap<u32, usize> = deck
+        .nodes
+        .iter()
+        .enumerate()
+        .map(|(i, n)| (n.id, i))
+        .collect();
     let frames = frames(deck, &node_index)?;
     let (equations, dofs, has_fixed) = number_dofs(deck, &node_index);
     if dofs.is_empty() {
@@ -277,8 +297,8 @@ pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelErro
             mv.push(0.0);
         }
     }
-    let (symbolic, argsort) =
-        SymbolicSparseColMat::try_new_from_indices(n, n, &pairs).map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+    let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
+        .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
     drop(pairs);
     let stiffness = SparseMatrix::new_from_argsort(symbolic.clone(), &argsort, &kv)
         .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
@@ -289,7 +309,9 @@ pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelErro
     let damping = match deck.damping.map(|d| d.model) {
         None => Damping::None,
         Some(frfup_parsers::deck::DampingModel::Modal { zeta }) => Damping::Modal { zeta },
-        Some(frfup_parsers::deck::DampingModel::Rayleigh { alpha, beta }) => Damping::Rayleigh { alpha, beta },
+        Some(frfup_parsers::deck::DampingModel::Rayleigh { alpha, beta }) => {
+            Damping::Rayleigh { alpha, beta }
+        }
         Some(frfup_parsers::deck::DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
     };
     let sensors: BTreeMap<u32, u32> = deck.sensors.iter().map(|s| (s.test_node, s.node)).collect();

@@ -20,11 +20,7 @@ pub enum ModelError {
     /// A parameter value is not finite.
     NonFiniteParameter { name: String, value: f64 },
     /// Parameter values make a property zero or negative (p ≤ −1).
-    NonPositiveProperty {
-        name: String,
-        value: f64,
-        pos: Pos,
-    },
+    NonPositiveProperty { name: String, value: f64, pos: Pos },
     /// No free DOF is left (no elements, or everything fixed).
     NoDofs,
     /// The sparse matrix could not be created (out of memory).

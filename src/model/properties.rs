@@ -46,9 +46,24 @@ pub(crate) struct Indices {
 impl Indices {
     pub fn new(deck: &Deck) -> Self {
         Indices {
-            beam: deck.beams.iter().enumerate().map(|(i, b)| (b.id, i)).collect(),
-            mass: deck.masses.iter().enumerate().map(|(i, m)| (m.id, i)).collect(),
-            spring: deck.springs.iter().enumerate().map(|(i, s)| (s.id, i)).collect(),
+            beam: deck
+                .beams
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (b.id, i))
+                .collect(),
+            mass: deck
+                .masses
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (m.id, i))
+                .collect(),
+            spring: deck
+                .springs
+                .iter()
+                .enumerate()
+                .map(|(i, s)| (s.id, i))
+                .collect(),
         }
     }
     /// Indices (deck order) of the elements a `param` lists.

@@ -33,7 +33,8 @@ pub(crate) fn beam_derivative(
 ) -> (Matrix12<f64>, Matrix12<f64>) {
     let beam = &deck.beams[b];
     let frame = &layout.frames[b];
-    let (Some(mat), Some(sec)) = (deck.material(&beam.material), deck.section(&beam.section)) else {
+    let (Some(mat), Some(sec)) = (deck.material(&beam.material), deck.section(&beam.section))
+    else {
         return (Matrix12::zeros(), Matrix12::zeros());
     };
     let mut f = layout.factors.beam[b].map(|v| Complex::new(v, 0.0));
@@ -41,7 +42,10 @@ pub(crate) fn beam_derivative(
     let p = beam_properties::<Complex<f64>>(mat, sec, f);
     let k = local_stiffness(&p, frame.length, beam.theory()).map(|z| z.im / COMPLEX_STEP);
     let m = local_mass(&p, frame.length, beam.theory()).map(|z| z.im / COMPLEX_STEP);
-    (to_global(&k, &frame.rotation), to_global(&m, &frame.rotation))
+    (
+        to_global(&k, &frame.rotation),
+        to_global(&m, &frame.rotation),
+    )
 }
 
 /// One [`ParameterSensitivity`] per deck `param`, in deck order.

@@ -92,7 +92,10 @@ pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
             .map(|(i, _)| (i, f.beam[i][0..3].to_vec()))
             .collect();
         let gs = groups(&users);
-        let keeper = gs.iter().position(|(k, _)| k.iter().all(|v| *v == 1.0)).unwrap_or(0);
+        let keeper = gs
+            .iter()
+            .position(|(k, _)| k.iter().all(|v| *v == 1.0))
+            .unwrap_or(0);
         if gs.is_empty() {
             materials.push(m.clone());
             continue;
@@ -129,7 +132,10 @@ pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
             sections.push(s.clone());
             continue;
         }
-        let keeper = gs.iter().position(|(k, _)| k.iter().all(|v| *v == 1.0)).unwrap_or(0);
+        let keeper = gs
+            .iter()
+            .position(|(k, _)| k.iter().all(|v| *v == 1.0))
+            .unwrap_or(0);
         sections.push(scaled_section(s, &gs[keeper].0));
         for (gi, (key, beams)) in gs.iter().enumerate() {
             if gi == keeper {

@@ -78,7 +78,13 @@ fn place2<T: Scalar>(m: &mut Matrix12<T>, i: usize, j: usize, block: [[T; 2]; 2]
 }
 
 /// Φ = 12EI/(κGAL²) of one bending plane (0 for Euler–Bernoulli).
-fn shear_parameter<T: Scalar>(p: &BeamProperties<T>, i: T, kappa: f64, l: f64, theory: Theory) -> T {
+fn shear_parameter<T: Scalar>(
+    p: &BeamProperties<T>,
+    i: T,
+    kappa: f64,
+    l: f64,
+    theory: Theory,
+) -> T {
     match theory {
         Theory::EulerBernoulli => c(0.0),
         Theory::Timoshenko => c::<T>(12.0) * p.e * i / (c::<T>(kappa * l * l) * p.g * p.a),
@@ -160,9 +166,19 @@ pub fn local_mass<T: Scalar>(p: &BeamProperties<T>, l: f64, theory: Theory) -> M
     let mut m = Matrix12::<T>::zeros();
     let rho_a = p.rho * p.a;
     let ax = rho_a * c::<T>(l / 6.0);
-    place2(&mut m, 0, 6, [[ax * c::<T>(2.0), ax], [ax, ax * c::<T>(2.0)]]);
+    place2(
+        &mut m,
+        0,
+        6,
+        [[ax * c::<T>(2.0), ax], [ax, ax * c::<T>(2.0)]],
+    );
     let tor = p.rho * (p.iy + p.iz) * c::<T>(l / 6.0);
-    place2(&mut m, 3, 9, [[tor * c::<T>(2.0), tor], [tor, tor * c::<T>(2.0)]]);
+    place2(
+        &mut m,
+        3,
+        9,
+        [[tor * c::<T>(2.0), tor], [tor, tor * c::<T>(2.0)]],
+    );
     let rotary = theory == Theory::Timoshenko;
     let phi_y = shear_parameter(p, p.iz, p.ky, l, theory);
     let rot_y = rotary.then(|| p.rho * p.iz);
