@@ -47,14 +47,20 @@ const R7_REAL4: &str = "         2         4         1  0.00000E+00  1.00000E+00
 #[test]
 fn fortran_number_forms() {
     // D exponent, 3-digit exponent, exponent without E, plain.
-    let v = real(&ascii58(R7_REAL4, "  1.50000D+01  2.50000E+000    1.00000-100  4.00000E-01\n"));
+    let v = real(&ascii58(
+        R7_REAL4,
+        "  1.50000D+01  2.50000E+000    1.00000-100  4.00000E-01\n",
+    ));
     assert_eq!(v, vec![15.0, 2.5, 1.0e-100, 0.4]);
 }
 
 #[test]
 fn run_together_and_whitespace_separated_lines() {
     // Fixed columns without blanks between fields.
-    let v = real(&ascii58(R7_REAL4, "-1.111111E-01-2.111111E+01 4.111111E+03-3.111111E+03\n"));
+    let v = real(&ascii58(
+        R7_REAL4,
+        "-1.111111E-01-2.111111E+01 4.111111E+03-3.111111E+03\n",
+    ));
     assert_eq!(v, vec![-0.1111111, -21.11111, 4111.111, -3111.111]);
     // Other widths, separated by blanks: read by whitespace.
     let v = real(&ascii58(R7_REAL4, "1.0 2.0\n   3.0e0    4\n"));
@@ -64,50 +70,89 @@ fn run_together_and_whitespace_separated_lines() {
 #[test]
 fn short_last_line_and_padding() {
     let r7 = "         2         5         1  0.00000E+00  1.00000E+00  0.00000E+00";
-    let v = real(&ascii58(r7, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n  5.00000E+00\n"));
+    let v = real(&ascii58(
+        r7,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n  5.00000E+00\n",
+    ));
     assert_eq!(v.len(), 5);
     // Zero padding of the last line is dropped with a note.
-    let file = uff::parse(&ascii58(r7, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00  5.00000E+00  0.00000E+00\n"))
-        .expect("reads");
+    let file = uff::parse(&ascii58(
+        r7,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00  5.00000E+00  0.00000E+00\n",
+    ))
+    .expect("reads");
     assert_eq!(file.notes.len(), 1, "{:?}", file.notes);
 }
 
 #[test]
 fn fewer_points_than_declared() {
-    let e = error(&ascii58(R7_REAL4, "  1.00000E+00  2.00000E+00  3.00000E+00\n"));
-    assert_eq!((e.dataset_index, e.dataset_number, e.line), (Some(0), Some(58), Some(15)));
-    assert!(e.message.contains("4 points") && e.message.contains("3 values"), "{e}");
+    let e = error(&ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.00000E+00  3.00000E+00\n",
+    ));
+    assert_eq!(
+        (e.dataset_index, e.dataset_number, e.line),
+        (Some(0), Some(58), Some(15))
+    );
+    assert!(
+        e.message.contains("4 points") && e.message.contains("3 values"),
+        "{e}"
+    );
 }
 
 #[test]
 fn more_points_than_declared() {
-    let e = error(&ascii58(R7_REAL4, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00  5.00000E+00\n"));
+    let e = error(&ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00  5.00000E+00\n",
+    ));
     assert_eq!(e.line, Some(14));
     assert!(e.message.contains("more values"), "{e}");
 }
 
 #[test]
 fn non_numeric_field() {
-    let e = error(&ascii58(R7_REAL4, "  1.00000E+00  2.0000XE+00  3.00000E+00  4.00000E+00\n"));
+    let e = error(&ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.0000XE+00  3.00000E+00  4.00000E+00\n",
+    ));
     assert_eq!((e.line, e.dataset_number), (Some(14), Some(58)));
     assert!(e.message.contains("2.0000XE+00"), "{e}");
-    let e = error(&ascii58("         2         X         1  0.00000E+00  1.00000E+00  0.00000E+00", ""));
+    let e = error(&ascii58(
+        "         2         X         1  0.00000E+00  1.00000E+00  0.00000E+00",
+        "",
+    ));
     assert_eq!(e.line, Some(9));
     assert!(e.message.contains("record 7"), "{e}");
 }
 
 #[test]
 fn nan_and_infinity() {
-    let e = error(&ascii58(R7_REAL4, "  1.00000E+00          NaN  3.00000E+00  4.00000E+00\n"));
+    let e = error(&ascii58(
+        R7_REAL4,
+        "  1.00000E+00          NaN  3.00000E+00  4.00000E+00\n",
+    ));
     assert_eq!(e.line, Some(14));
-    assert!(e.message.contains("NaN") && e.message.contains("finite"), "{e}");
-    let e = error(&ascii58(R7_REAL4, "  1.00000E+00  1.00000E+99999 3.00000E+00  4.00000E+00\n"));
-    assert!(e.message.contains("finite") || e.message.contains("expected a number"), "{e}");
+    assert!(
+        e.message.contains("NaN") && e.message.contains("finite"),
+        "{e}"
+    );
+    let e = error(&ascii58(
+        R7_REAL4,
+        "  1.00000E+00  1.00000E+99999 3.00000E+00  4.00000E+00\n",
+    ));
+    assert!(
+        e.message.contains("finite") || e.message.contains("expected a number"),
+        "{e}"
+    );
 }
 
 #[test]
 fn truncated_file() {
-    let bytes = ascii58(R7_REAL4, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n");
+    let bytes = ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n",
+    );
     for cut in [bytes.len() - 3, 200, 40, 12] {
         let e = error(&bytes[..cut]);
         assert_eq!(e.dataset_index, Some(0), "cut {cut}: {e}");
@@ -118,7 +163,12 @@ fn truncated_file() {
 /// A 58b function, real single, 4 points; `declared` bytes in its header.
 fn binary58(declared: usize, data: &[u8], after: &[u8]) -> Vec<u8> {
     let mut out = format!("    -1\n    58b     1     2          11{declared:>12}     0     0           0           0\n").into_bytes();
-    out.extend_from_slice(HEADER.split_once("    58\n").map_or("", |(_, rest)| rest).as_bytes());
+    out.extend_from_slice(
+        HEADER
+            .split_once("    58\n")
+            .map_or("", |(_, rest)| rest)
+            .as_bytes(),
+    );
     out.extend_from_slice(R7_REAL4.as_bytes());
     out.push(b'\n');
     out.extend_from_slice(AXES.as_bytes());
@@ -135,12 +185,20 @@ fn f32s(v: &[f32]) -> Vec<u8> {
 fn binary_quirks() {
     let data = f32s(&[1.0, 2.0, 3.0, 4.0]);
     // Closing -1 right after the data, on its own line, after CRLF.
-    for after in [&b"    -1\n"[..], b"\n    -1\n", b"\r\n    -1\r\n", b"\n\n    -1"] {
+    for after in [
+        &b"    -1\n"[..],
+        b"\n    -1\n",
+        b"\r\n    -1\r\n",
+        b"\n\n    -1",
+    ] {
         assert_eq!(real(&binary58(16, &data, after)), vec![1.0, 2.0, 3.0, 4.0]);
     }
     // Header fields with non-standard widths.
     let standard = binary58(16, &data, b"    -1\n");
-    let line_end = 7 + standard[7..].iter().position(|&b| b == b'\n').expect("header line");
+    let line_end = 7 + standard[7..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .expect("header line");
     let mut odd = b"    -1\n    58b 1 2 11 16 0 0 0 0".to_vec();
     odd.extend_from_slice(&standard[line_end..]);
     assert_eq!(real(&odd), vec![1.0, 2.0, 3.0, 4.0]);
@@ -174,10 +232,16 @@ fn binary_non_finite() {
 
 #[test]
 fn big_endian_binary() {
-    let data: Vec<u8> = [1.0f32, 2.0, 3.0, 4.0].iter().flat_map(|x| x.to_be_bytes()).collect();
+    let data: Vec<u8> = [1.0f32, 2.0, 3.0, 4.0]
+        .iter()
+        .flat_map(|x| x.to_be_bytes())
+        .collect();
     let mut bytes = binary58(16, &data, b"    -1\n");
     // Byte order field: 2 = big-endian.
-    let pos = bytes.windows(6).position(|w| w == b"     1").expect("byte order field");
+    let pos = bytes
+        .windows(6)
+        .position(|w| w == b"     1")
+        .expect("byte order field");
     bytes[pos + 5] = b'2';
     assert_eq!(real(&bytes), vec![1.0, 2.0, 3.0, 4.0]);
 }
@@ -185,19 +249,36 @@ fn big_endian_binary() {
 #[test]
 fn unknown_dataset_is_skipped_with_a_note() {
     let mut bytes = b"    -1\n  9999\nwhatever 1 2 3\n    -1\n".to_vec();
-    bytes.extend(ascii58(R7_REAL4, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n"));
+    bytes.extend(ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n",
+    ));
     let file = uff::parse(&bytes).expect("reads");
     assert_eq!(file.datasets.len(), 2);
-    assert!(file.notes.iter().any(|n| n.contains("9999") && n.starts_with("line 2")), "{:?}", file.notes);
+    assert!(
+        file.notes
+            .iter()
+            .any(|n| n.contains("9999") && n.starts_with("line 2")),
+        "{:?}",
+        file.notes
+    );
 }
 
 #[test]
 fn latin1_and_utf8_headers() {
-    let mut bytes = ascii58(R7_REAL4, "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n");
-    let pos = bytes.windows(10).position(|w| w == b"Quirk test").expect("id line");
+    let mut bytes = ascii58(
+        R7_REAL4,
+        "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n",
+    );
+    let pos = bytes
+        .windows(10)
+        .position(|w| w == b"Quirk test")
+        .expect("id line");
     bytes[pos + 5] = 0xe9; // Latin-1 é
     let file = uff::parse(&bytes).expect("reads");
-    let Dataset::Function(f) = &file.datasets[0] else { panic!("58") };
+    let Dataset::Function(f) = &file.datasets[0] else {
+        panic!("58")
+    };
     assert_eq!(f.id_lines[0], "Quirkétest");
 }
 

@@ -295,10 +295,8 @@ pub(crate) fn parse(
         None => record7(header[6].text).map_err(|m| at(6, format!("record 7: {m}")))?,
     };
     let mut axes = Vec::with_capacity(4);
-    for k in 7..11 {
-        axes.push(
-            axis_record(header[k].text).map_err(|m| at(k, format!("record {}: {m}", k + 1)))?,
-        );
+    for (k, line) in header.iter().enumerate().skip(7) {
+        axes.push(axis_record(line.text).map_err(|m| at(k, format!("record {}: {m}", k + 1)))?);
     }
     let [abscissa_axis, numerator_axis, denominator_axis, z_axis]: [AxisCharacteristics; 4] = axes
         .try_into()

@@ -344,7 +344,10 @@ fn binary_block(
         if let Some(d) = declared_ok.filter(|&d| d <= available) {
             if closing_after(bytes, data_start + d).is_some() {
                 // The data hold what the header declares, but not what record 7 needs.
-                let expected: Vec<String> = layouts.iter().filter_map(|(b, _)| b.map(|b| b.to_string())).collect();
+                let expected: Vec<String> = layouts
+                    .iter()
+                    .filter_map(|(b, _)| b.map(|b| b.to_string()))
+                    .collect();
                 return Err(err(
                     Some(data_line),
                     data_start,

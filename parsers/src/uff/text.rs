@@ -254,25 +254,38 @@ pub(crate) fn reals_by_width_or_tokens(
 /// skipped. False (with `out` partly filled) if a field is not a number.
 #[inline]
 pub(crate) fn reals_fixed(text: &[u8], widths: &[usize], out: &mut Vec<f64>) -> bool {
-    let len = trim_end(text).len();
+    let mut len = text.len();
+    while len > 0 && matches!(text[len - 1], b' ' | b'\t' | b'\r' | 0) {
+        len -= 1;
+    }
     let mut pos = 0;
     let mut k = 0;
     while pos < len {
         let w = widths[k];
         k = if k + 1 == widths.len() { 0 } else { k + 1 };
         let end = (pos + w).min(len);
-        let field = &text[pos..end];
+        // Fields are right-aligned: skip the leading blanks only (fast path).
+        let mut start = pos;
+        while start < end && text[start] == b' ' {
+            start += 1;
+        }
+        let field = &text[start..end];
         pos = end;
-        let t = trim(field);
-        if t.is_empty() {
+        if field.is_empty() {
             continue;
         }
-        match lexical_core::parse::<f64>(t) {
+        match lexical_core::parse::<f64>(field) {
             Ok(v) => out.push(v),
-            Err(_) => match parse_fortran_real(t) {
-                Some(v) => out.push(v),
-                None => return false,
-            },
+            Err(_) => {
+                let t = trim(field);
+                if t.is_empty() {
+                    continue;
+                }
+                match parse_fortran_real(t) {
+                    Some(v) => out.push(v),
+                    None => return false,
+                }
+            }
         }
     }
     true

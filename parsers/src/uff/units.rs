@@ -189,7 +189,7 @@ pub(crate) fn parse(lines: &[text::Line<'_>]) -> Result<Units164, (usize, String
             format!("factor {} is {v}; expected a finite number", k + 1),
         ));
     }
-    if values[..3].iter().any(|&v| v == 0.0) {
+    if values[..3].contains(&0.0) {
         return Err((
             1,
             "length, force and temperature factors must not be 0".into(),

@@ -372,7 +372,7 @@ mod tests {
         field_e(&mut s, -1.733310054988e-4, 20, 12);
         field_e(&mut s, 1.5e100, 13, 5);
         field_e(&mut s, 0.0, 13, 5);
-        assert_eq!(s, "-1.733310054988e-04 1.50000e+100  0.00000e+00");
+        assert_eq!(s, " -1.733310054988e-04 1.50000e+100  0.00000e+00");
         let mut s = String::new();
         field_e_fit(&mut s, 0.1953125, 13);
         field_e_fit(&mut s, -0.1953125, 13);
