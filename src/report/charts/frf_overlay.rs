@@ -1,0 +1,618 @@
+//! FRF overlays: per channel, the magnitude of each series (e.g. measured,
+//! initial model, updated model) on a log axis against frequency, with marked
+//! frequencies (the updating frequencies) and labelled resonances, and the
+//! phase below (`frf/NN-LABEL.svg`); and a contact sheet of the magnitudes of
+//! every channel (`frf-overlay.svg`).
+//!
+//! Generic over the series: the first is drawn as the reference (dark), the
+//! others as models; any labels work ("before"/"after", "test"/"model", …).
+
+use num_complex::Complex64;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::{
+    abbreviate, bold, comparison_color, draw_legend, draw_mesh, draw_no_data, draw_title,
+    finite_range, finite_runs, font, legend_height, nice_step, pow10_label, stagger, text_width,
+    tick_label, title_height, Area, Axes, Chart2d, ChartError, LegendEntry, Marker, Swatch, GREY,
+    LIGHT_GREY,
+};
+
+/// A labelled resonance (e.g. "R3" at 33.125 Hz).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResonanceMark {
+    pub hz: f64,
+    pub label: String,
+}
+
+/// One channel: a value per frequency line for each series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrfChannel {
+    /// e.g. "112+z/112+z".
+    pub label: String,
+    /// values[series][line], aligned with [`FrfOverlay::series_labels`] and
+    /// [`FrfOverlay::frequencies_hz`].
+    pub values: Vec<Vec<Complex64>>,
+}
+
+/// FRFs of several series on shared frequency lines.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrfOverlay {
+    pub title: String,
+    pub subtitle: Option<String>,
+    /// The FRF kind, e.g. "accelerance".
+    pub quantity: String,
+    /// Its units, e.g. "m/s²/N".
+    pub units: String,
+    pub frequencies_hz: Vec<f64>,
+    /// e.g. ["measured", "initial model", "updated model"].
+    pub series_labels: Vec<String>,
+    pub channels: Vec<FrfChannel>,
+    /// Frequencies marked by dashed vertical lines (Hz).
+    pub marks_hz: Vec<f64>,
+    /// Legend text of the marks, e.g. "updating frequency".
+    pub mark_label: String,
+    pub resonances: Vec<ResonanceMark>,
+}
+
+const WIDTH: u32 = 960;
+
+fn series_style(s: usize) -> ShapeStyle {
+    match s {
+        0 => RGBColor(70, 70, 70).stroke_width(2),
+        k => comparison_color(k).stroke_width(if k == 1 { 1 } else { 2 }),
+    }
+}
+
+fn legend_entries(o: &FrfOverlay) -> Vec<LegendEntry> {
+    let mut e: Vec<LegendEntry> = o
+        .series_labels
+        .iter()
+        .enumerate()
+        .map(|(s, l)| {
+            let st = series_style(s);
+            let c = st.color.to_rgba();
+            LegendEntry::new(
+                l.clone(),
+                RGBColor(c.0, c.1, c.2),
+                Swatch::Line {
+                    width: st.stroke_width.max(2),
+                },
+            )
+        })
+        .collect();
+    if !o.marks_hz.is_empty() {
+        e.push(LegendEntry::new(
+            o.mark_label.clone(),
+            mark_color(),
+            Swatch::VMark,
+        ));
+    }
+    if !o.resonances.is_empty() {
+        e.push(LegendEntry::new(
+            "test resonance",
+            GREY,
+            Swatch::Marker(Marker::Triangle),
+        ));
+    }
+    e
+}
+
+fn mark_color() -> RGBColor {
+    RGBColor(0, 158, 115)
+}
+
+/// The x range of the overlay (Hz); never empty.
+fn x_range(o: &FrfOverlay) -> (f64, f64) {
+    let (a, b) = finite_range(&o.frequencies_hz).unwrap_or((0.0, 1.0));
+    if b > a {
+        (a, b)
+    } else {
+        (a - 0.5, a + 0.5)
+    }
+}
+
+/// Decades (integer log10 bounds) covering the magnitudes of `ch`, at most
+/// `max_decades` below the largest value.
+fn decades(ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
+    let logs: Vec<f64> = ch
+        .values
+        .iter()
+        .flatten()
+        .map(|v| v.norm())
+        .filter(|m| *m > 0.0 && m.is_finite())
+        .map(|m| m.log10())
+        .collect();
+    match finite_range(&logs) {
+        None => (-1, 0),
+        Some((lo, hi)) => {
+            let top = hi.ceil() as i32;
+            let top = if top as f64 - hi < 0.05 { top + 1 } else { top };
+            let bottom = (lo.floor() as i32).max(top - max_decades).min(top - 1);
+            (bottom, top)
+        }
+    }
+}
+
+/// (f, y) points of one series, reduced to the extremes per pixel bucket when
+/// there are many more lines than pixels.
+fn decimate(points: Vec<(f64, f64)>, x: (f64, f64), buckets: usize) -> Vec<(f64, f64)> {
+    if points.len() <= 4 * buckets || buckets == 0 {
+        return points;
+    }
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    let width = (x.1 - x.0).max(f64::MIN_POSITIVE);
+    let bucket_of =
+        |f: f64| (((f - x.0) / width * buckets as f64).floor().max(0.0) as usize).min(buckets - 1);
+    let mut i = 0;
+    while i < points.len() {
+        let b = bucket_of(points[i].0);
+        let mut j = i;
+        let (mut lo, mut hi) = (i, i);
+        while j < points.len() && bucket_of(points[j].0) == b {
+            // NaN breaks lines: keep it as its own point.
+            if !points[j].1.is_finite() {
+                break;
+            }
+            if points[j].1 < points[lo].1 {
+                lo = j;
+            }
+            if points[j].1 > points[hi].1 {
+                hi = j;
+            }
+            j += 1;
+        }
+        if j == i {
+            out.push(points[i]);
+            i += 1;
+            continue;
+        }
+        let (a, b2) = if lo <= hi { (lo, hi) } else { (hi, lo) };
+        out.push(points[a]);
+        if b2 != a {
+            out.push(points[b2]);
+        }
+        i = j;
+    }
+    out
+}
+
+fn magnitude_points(o: &FrfOverlay, values: &[Complex64], floor: f64) -> Vec<(f64, f64)> {
+    o.frequencies_hz
+        .iter()
+        .zip(values)
+        .map(|(&f, v)| {
+            let m = v.norm();
+            let y = if m > 0.0 && m.is_finite() {
+                m.log10().max(floor)
+            } else if m == 0.0 {
+                floor
+            } else {
+                f64::NAN
+            };
+            (f, y)
+        })
+        .collect()
+}
+
+fn phase_points(o: &FrfOverlay, values: &[Complex64]) -> Vec<(f64, f64)> {
+    // Break the line where the phase wraps.
+    let mut out = Vec::with_capacity(values.len());
+    let mut prev: Option<f64> = None;
+    for (&f, v) in o.frequencies_hz.iter().zip(values) {
+        let p = if v.norm() > 0.0 && v.norm().is_finite() {
+            v.arg().to_degrees()
+        } else {
+            f64::NAN
+        };
+        if let (Some(q), true) = (prev, p.is_finite()) {
+            if (p - q).abs() > 180.0 {
+                out.push((f, f64::NAN));
+            }
+        }
+        prev = p.is_finite().then_some(p);
+        out.push((f, p));
+    }
+    out
+}
+
+fn log_label(v: &f64) -> String {
+    if (v - v.round()).abs() < 1e-6 {
+        pow10_label(v.round() as i32)
+    } else {
+        String::new()
+    }
+}
+
+fn draw_series_lines(
+    chart: &mut Chart2d,
+    pts: Vec<(f64, f64)>,
+    style: ShapeStyle,
+    x: (f64, f64),
+    buckets: usize,
+) -> Result<(), ChartError> {
+    for run in finite_runs(decimate(pts, x, buckets)) {
+        if run.len() == 1 {
+            chart.draw_series(std::iter::once(Circle::new(run[0], 1, style.filled())))?;
+        } else {
+            chart.draw_series(LineSeries::new(run, style))?;
+        }
+    }
+    Ok(())
+}
+
+/// Dashed marks and resonance labels on a magnitude panel.
+fn draw_marks(
+    root: &Area,
+    chart: &mut Chart2d,
+    o: &FrfOverlay,
+    y: (f64, f64),
+    labels: bool,
+    label_px: f64,
+) -> Result<(), ChartError> {
+    let x = chart.x_range();
+    for &f in &o.marks_hz {
+        if f.is_finite() && f >= x.start && f <= x.end {
+            super::vline(chart, f, y, mark_color())?;
+        }
+    }
+    let visible: Vec<&ResonanceMark> = o
+        .resonances
+        .iter()
+        .filter(|r| r.hz.is_finite() && r.hz >= x.start && r.hz <= x.end)
+        .collect();
+    if visible.is_empty() {
+        return Ok(());
+    }
+    let pos: Vec<(i32, i32)> = visible
+        .iter()
+        .map(|r| chart.backend_coord(&(r.hz, y.1)))
+        .collect();
+    for &(px, py) in &pos {
+        root.draw(&Polygon::new(
+            vec![(px - 4, py), (px + 4, py), (px, py + 6)],
+            GREY.filled(),
+        ))?;
+    }
+    if labels {
+        let sizes: Vec<(f64, f64)> = visible
+            .iter()
+            .zip(&pos)
+            .map(|(r, p)| (p.0 as f64, text_width(&r.label, label_px)))
+            .collect();
+        let rows = stagger(&sizes, 3.0, 3);
+        for ((r, &(px, py)), row) in visible.iter().zip(&pos).zip(rows) {
+            root.draw_text(
+                &r.label,
+                &font(label_px)
+                    .color(&RGBColor(80, 80, 80))
+                    .pos(Pos::new(HPos::Center, VPos::Top)),
+                (px, py + 8 + row as i32 * (label_px as i32 + 2)),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Render channel `index` (magnitude and phase) as SVG text.
+pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError> {
+    let Some(ch) = o.channels.get(index) else {
+        return super::svg((WIDTH, 400), |root| {
+            draw_no_data(root, &o.title, "no such channel")
+        });
+    };
+    let title = format!("{} — {}", o.title, ch.label);
+    if o.frequencies_hz.is_empty() {
+        return super::svg((WIDTH, 400), |root| {
+            draw_no_data(root, &title, "no frequency lines")
+        });
+    }
+    let entries = legend_entries(o);
+    let lh = legend_height(&entries, WIDTH as i32 - 40);
+    let th = title_height(o.subtitle.is_some());
+    let (mag_h, phase_h) = (420, 250);
+    let height = (th + lh + mag_h + phase_h + 10) as u32;
+    let x = x_range(o);
+    let (d0, d1) = decades(ch, 8);
+    let floor = d0 as f64;
+    let buckets = 2 * (WIDTH as usize - 110);
+    super::svg((WIDTH, height), |root| {
+        draw_title(root, &title, o.subtitle.as_deref())?;
+        let (_, rest) = root.split_vertically(th);
+        let (legend_a, rest) = rest.split_vertically(lh);
+        draw_legend(&legend_a.margin(0, 0, 20, 20), &entries)?;
+        let (top, bottom) = rest.split_vertically(mag_h);
+
+        let y = (floor, d1 as f64);
+        let mut chart = ChartBuilder::on(&top)
+            .margin_left(10)
+            .margin_right(25)
+            .margin_top(6)
+            .x_label_area_size(30)
+            .y_label_area_size(78)
+            .build_cartesian_2d(x.0..x.1, y.0..y.1)?;
+        let xfmt = tick_label(x, 10);
+        let ydesc = format!("|{}| ({}, log scale)", o.quantity, o.units);
+        draw_mesh(
+            &mut chart,
+            &Axes {
+                x_desc: "",
+                y_desc: &ydesc,
+                x_fmt: &xfmt,
+                y_fmt: &log_label,
+                x_labels: 12,
+                y_labels: (d1 - d0 + 1).clamp(2, 9) as usize,
+            },
+        )?;
+        draw_marks(root, &mut chart, o, y, true, 12.0)?;
+        for (s, vals) in ch.values.iter().enumerate() {
+            draw_series_lines(
+                &mut chart,
+                magnitude_points(o, vals, floor),
+                series_style(s),
+                x,
+                buckets,
+            )?;
+        }
+
+        // Phase, plotted in quarter turns so that the ticks fall on multiples of 90°.
+        let q = (-2.2, 2.2);
+        let mut chart = ChartBuilder::on(&bottom)
+            .margin_left(10)
+            .margin_right(25)
+            .margin_top(4)
+            .margin_bottom(6)
+            .x_label_area_size(48)
+            .y_label_area_size(78)
+            .build_cartesian_2d(x.0..x.1, q.0..q.1)?;
+        let quarter = |v: &f64| format!("{}", (v * 90.0).round() as i64);
+        draw_mesh(
+            &mut chart,
+            &Axes {
+                x_desc: "frequency (Hz)",
+                y_desc: "phase (°)",
+                x_fmt: &xfmt,
+                y_fmt: &quarter,
+                x_labels: 12,
+                y_labels: 5,
+            },
+        )?;
+        for &f in &o.marks_hz {
+            if f.is_finite() && f >= x.0 && f <= x.1 {
+                super::vline(&mut chart, f, q, mark_color())?;
+            }
+        }
+        for (s, vals) in ch.values.iter().enumerate() {
+            let pts: Vec<(f64, f64)> = phase_points(o, vals)
+                .into_iter()
+                .map(|(f, p)| (f, p / 90.0))
+                .collect();
+            draw_series_lines(&mut chart, pts, series_style(s), x, buckets)?;
+        }
+        Ok(())
+    })
+}
+
+/// Columns of the contact sheet for `n` channels.
+fn sheet_columns(n: usize) -> usize {
+    match n {
+        0..=1 => 1,
+        2 | 4 => 2,
+        3 | 5 | 6 | 9 => 3,
+        _ => 4,
+    }
+}
+
+/// Render every channel's magnitude as a grid of small panels with one legend.
+pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
+    let n = o.channels.len();
+    if n == 0 || o.frequencies_hz.is_empty() {
+        return super::svg((WIDTH, 400), |root| {
+            draw_no_data(root, &o.title, "no channels or no frequency lines")
+        });
+    }
+    let cols = sheet_columns(n);
+    let rows = n.div_ceil(cols);
+    let width: u32 = if cols >= 4 { 1280 } else { WIDTH };
+    let cell_h: u32 = if cols == 1 { 420 } else { 260 };
+    let entries = legend_entries(o);
+    let lh = legend_height(&entries, width as i32 - 40);
+    let th = title_height(o.subtitle.is_some());
+    let height = th as u32 + lh as u32 + rows as u32 * cell_h + 10;
+    let x = x_range(o);
+    let cell_w = width as usize / cols;
+    let buckets = 2 * cell_w;
+    super::svg((width, height), |root| {
+        draw_title(root, &o.title, o.subtitle.as_deref())?;
+        let (_, rest) = root.split_vertically(th);
+        let (legend_a, grid) = rest.split_vertically(lh);
+        draw_legend(&legend_a.margin(0, 0, 20, 20), &entries)?;
+        let grid = grid.margin(0, 10, 4, 4);
+        let cells = grid.split_evenly((rows, cols));
+        let xfmt_n = if cols >= 3 { 5 } else { 8 };
+        let xfmt = sheet_tick_label(x, xfmt_n);
+        let ydesc = format!("|H| ({})", o.units);
+        for (ch, cell) in o.channels.iter().zip(&cells) {
+            let (cw, _) = cell.dim_in_pixel();
+            let label = abbreviate(&ch.label, 12.0, cw as f64 - 20.0);
+            cell.draw_text(
+                &label,
+                &bold(12.0).pos(Pos::new(HPos::Center, VPos::Top)),
+                (cw as i32 / 2 + 20, 4),
+            )?;
+            let (d0, d1) = decades(ch, 7);
+            let y = (d0 as f64, d1 as f64);
+            let mut chart = ChartBuilder::on(cell)
+                .margin_top(22)
+                .margin_right(12)
+                .margin_left(4)
+                .x_label_area_size(36)
+                .y_label_area_size(56)
+                .build_cartesian_2d(x.0..x.1, y.0..y.1)?;
+            chart
+                .configure_mesh()
+                .x_desc("frequency (Hz)")
+                .y_desc(ydesc.as_str())
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&log_label)
+                .x_labels(xfmt_n)
+                .y_labels(((d1 - d0) as usize / 2 + 1).clamp(2, 5))
+                .label_style(font(10.0))
+                .axis_desc_style(font(10.0))
+                .bold_line_style(LIGHT_GREY.stroke_width(1))
+                .light_line_style(WHITE.stroke_width(0))
+                .axis_style(GREY.stroke_width(1))
+                .draw()?;
+            draw_marks(root, &mut chart, o, y, false, 10.0)?;
+            for (s, vals) in ch.values.iter().enumerate() {
+                let st = series_style(s);
+                let st = if s == 0 { st.color.stroke_width(1) } else { st };
+                draw_series_lines(&mut chart, magnitude_points(o, vals, y.0), st, x, buckets)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// Tick labels for small panels: like [`tick_label`] but coarser.
+fn sheet_tick_label(range: (f64, f64), n: usize) -> impl Fn(&f64) -> String {
+    let d = super::decimals_for(nice_step((range.1 - range.0).abs() / n.max(1) as f64));
+    move |v: &f64| super::fmt_fixed(*v, d)
+}
+
+/// A file-name-safe form of a channel label (`112+z/112+z` → `112+z_112+z`).
+pub fn file_stem(label: &str) -> String {
+    label
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '+' || c == '-' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::test_util::assert_svg;
+    use super::*;
+
+    fn sdof(f: f64, fr: f64, zeta: f64, scale: f64) -> Complex64 {
+        let w = f / fr;
+        Complex64::new(scale, 0.0) / Complex64::new(1.0 - w * w, 2.0 * zeta * w)
+    }
+
+    pub(crate) fn sample(channels: usize, lines: usize) -> FrfOverlay {
+        let f: Vec<f64> = (0..lines)
+            .map(|i| 200.0 * i as f64 / (lines.max(2) - 1) as f64)
+            .collect();
+        FrfOverlay {
+            title: "Measured and model FRFs".into(),
+            subtitle: Some("accelerance, excitation 112+z".into()),
+            quantity: "accelerance".into(),
+            units: "m/s²/N".into(),
+            series_labels: vec![
+                "measured".into(),
+                "initial model".into(),
+                "updated model".into(),
+            ],
+            channels: (0..channels)
+                .map(|c| FrfChannel {
+                    label: format!("{}+z/112+z", 100 + c),
+                    values: [40.0, 44.0, 40.4]
+                        .iter()
+                        .map(|&fr| {
+                            f.iter()
+                                .map(|&x| {
+                                    sdof(x, fr, 0.02, 1e-3 * (c + 1) as f64)
+                                        + sdof(x, 2.6 * fr, 0.01, 5e-4)
+                                })
+                                .collect()
+                        })
+                        .collect(),
+                })
+                .collect(),
+            frequencies_hz: f,
+            marks_hz: vec![37.0, 43.0, 97.0, 111.0],
+            mark_label: "updating frequency".into(),
+            resonances: vec![
+                ResonanceMark {
+                    hz: 40.0,
+                    label: "R1".into(),
+                },
+                ResonanceMark {
+                    hz: 41.0,
+                    label: "R2".into(),
+                },
+                ResonanceMark {
+                    hz: 104.0,
+                    label: "R3".into(),
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn channel_has_title_axes_legend_and_is_deterministic() {
+        let o = sample(3, 801);
+        let a = render_channel(&o, 1).unwrap();
+        assert_svg(&a);
+        for t in [
+            "Measured and model FRFs — 101+z/112+z",
+            "|accelerance| (m/s²/N, log scale)",
+            "phase (°)",
+            "frequency (Hz)",
+            "measured",
+            "initial model",
+            "updated model",
+            "updating frequency",
+            "R3",
+            "10⁻",
+        ] {
+            assert!(a.contains(t), "missing {t}");
+        }
+        assert_eq!(a, render_channel(&o, 1).unwrap());
+    }
+
+    #[test]
+    fn contact_sheet_has_every_channel() {
+        let o = sample(26, 801);
+        let a = render_contact_sheet(&o).unwrap();
+        assert_svg(&a);
+        for c in 0..26 {
+            assert!(a.contains(&format!("{}+z/112+z", 100 + c)));
+        }
+        assert!(a.contains("|H| (m/s²/N)"));
+        assert_eq!(a, render_contact_sheet(&o).unwrap());
+    }
+
+    #[test]
+    fn odd_data_does_not_panic() {
+        let o = sample(0, 10);
+        assert_svg(&render_contact_sheet(&o).unwrap());
+        assert_svg(&render_channel(&o, 0).unwrap());
+        let o = sample(1, 0);
+        assert_svg(&render_channel(&o, 0).unwrap());
+        assert_svg(&render_contact_sheet(&o).unwrap());
+        let mut o = sample(1, 3);
+        o.channels[0].values[0] = vec![Complex64::new(f64::NAN, 0.0); 3];
+        o.channels[0].values[1] = vec![Complex64::new(0.0, 0.0); 3];
+        o.channels[0].values[2].truncate(1);
+        o.frequencies_hz = vec![0.0, 0.0, 0.0];
+        assert_svg(&render_channel(&o, 0).unwrap());
+        assert_svg(&render_contact_sheet(&o).unwrap());
+        assert_eq!(file_stem("112+z/7-ry"), "112+z_7-ry");
+    }
+
+    #[test]
+    fn decimation_keeps_extremes() {
+        let pts: Vec<(f64, f64)> = (0..10_000)
+            .map(|i| (i as f64, if i == 5000 { 9.0 } else { 0.0 }))
+            .collect();
+        let d = decimate(pts, (0.0, 10_000.0), 100);
+        assert!(d.len() <= 202);
+        assert!(d.iter().any(|p| p.1 == 9.0));
+    }
+}
