@@ -25,6 +25,12 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Run the built-in GARTEUR-like case end to end (read, update, report).
+    Demo {
+        /// Output folder.
+        #[arg(long, default_value = "frfup-demo")]
+        out: PathBuf,
+    },
     /// List the datasets of a UFF file, one line each.
     Info {
         file: PathBuf,
@@ -221,6 +227,25 @@ enum ToKind {
 fn run(cli: Cli) -> Result<(), CommandError> {
     let progress = Progress::detect(cli.quiet);
     match cli.command {
+        Command::Demo { out } => {
+            let quiet = cli.quiet;
+            let start = std::time::Instant::now();
+            let (outcome, report) = commands::demo::run(&out, &mut |rec| {
+                if !quiet {
+                    eprintln!(
+                        "iteration {}: SFDAC mean {:.4} min {:.4}",
+                        rec.index, rec.sfdac.mean, rec.sfdac.min
+                    );
+                }
+            })?;
+            print_update_summary(&outcome);
+            println!(
+                "done in {:.1} s. Open {} (and report.html, the .svg charts, updated.deck in {})",
+                start.elapsed().as_secs_f64(),
+                report.display(),
+                out.display()
+            );
+        }
         Command::Info { file, json } => {
             print!("{}", commands::info::run(&file, json, progress)?);
         }
@@ -337,22 +362,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                     );
                 }
             })?;
-            let r = &outcome.result;
-            let last = r.final_record();
-            println!(
-                "{} after {} iteration(s): SFDAC mean {:.4} -> {:.4}, min {:.4} -> {:.4}; mean |df/f| {} -> {}",
-                r.stop.name(),
-                r.iterations.len() - 1,
-                r.iterations[0].sfdac.mean,
-                last.sfdac.mean,
-                r.iterations[0].sfdac.min,
-                last.sfdac.min,
-                pct(outcome.freq_error_initial_pct),
-                pct(outcome.freq_error_updated_pct),
-            );
-            for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
-                println!("  {name:<16} {p:+.5}");
-            }
+            print_update_summary(&outcome);
             println!("wrote {}", out.display());
             let thresholds = frfup::batch::Thresholds {
                 min_sfdac: fail_below_sfdac,
@@ -427,6 +437,25 @@ fn run(cli: Cli) -> Result<(), CommandError> {
         }
     }
     Ok(())
+}
+
+fn print_update_summary(outcome: &commands::update::UpdateOutcome) {
+    let r = &outcome.result;
+    let last = r.final_record();
+    println!(
+        "{} after {} iteration(s): SFDAC mean {:.4} -> {:.4}, min {:.4} -> {:.4}; mean |df/f| {} -> {}",
+        r.stop.name(),
+        r.iterations.len() - 1,
+        r.iterations[0].sfdac.mean,
+        last.sfdac.mean,
+        r.iterations[0].sfdac.min,
+        last.sfdac.min,
+        pct(outcome.freq_error_initial_pct),
+        pct(outcome.freq_error_updated_pct),
+    );
+    for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
+        println!("  {name:<16} {p:+.5}");
+    }
 }
 
 fn pct(x: Option<f64>) -> String {

@@ -3,6 +3,7 @@
 //! message and an exit code (0 fine, 1 a threshold failed, 2 bad input or usage).
 
 pub mod convert;
+pub mod demo;
 pub mod info;
 pub mod modes;
 pub mod progress;
