@@ -1,0 +1,627 @@
+//! `report.html`: one self-contained page (inline SVG charts and CSS, no
+//! scripts, no network) with what was measured, the model, the options, the
+//! tables of the run and its warnings.
+
+use std::fmt::Write as _;
+
+use frfup_parsers::deck::Deck;
+
+use super::data::{ReportData, ReportInputs};
+use crate::testdata::MeasuredFrfs;
+use crate::updating::frequencies::FrequencySource;
+use crate::updating::output::{frequency_rows, mean_abs_dev};
+use crate::updating::{InverseMethod, UpdateResult, UpdateWarning};
+
+/// The rendered charts embedded in the page.
+#[derive(Clone, Debug, Default)]
+pub struct EmbeddedCharts {
+    pub convergence: String,
+    pub sfdac: String,
+    pub frequencies: String,
+    pub mac: String,
+    pub frf_sheet: String,
+    /// (channel label, SVG) per channel.
+    pub frf_channels: Vec<(String, String)>,
+}
+
+/// Escape text for HTML.
+pub fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&#39;"),
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+fn fx(v: f64, d: usize) -> String {
+    super::charts::fmt_fixed(v, d)
+}
+
+fn signed(v: f64, d: usize) -> String {
+    if v.is_finite() {
+        let s = format!("{v:+.d$}");
+        if s.trim_start_matches(['+', '-'])
+            .chars()
+            .all(|c| c == '0' || c == '.')
+        {
+            s.trim_start_matches(['+', '-']).to_string()
+        } else {
+            s.replace('-', "−")
+        }
+    } else {
+        "–".into()
+    }
+}
+
+const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222;line-height:1.4}\
+h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
+table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
+th{background:#f2f2f2}td.l,th.l{text-align:left}tr.sel td{background:#eef5ff;font-weight:bold}\
+.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #0064c8}\
+.warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em}";
+
+fn row(s: &mut String, cells: &[(&str, String)]) {
+    s.push_str("<tr>");
+    for (class, c) in cells {
+        if class.is_empty() {
+            let _ = write!(s, "<td>{c}</td>");
+        } else {
+            let _ = write!(s, "<td class=\"{class}\">{c}</td>");
+        }
+    }
+    s.push_str("</tr>\n");
+}
+
+fn kv(s: &mut String, rows: &[(&str, String)]) {
+    s.push_str("<table>\n");
+    for (k, v) in rows {
+        let _ = writeln!(
+            s,
+            "<tr><th class=\"l\">{}</th><td class=\"l\">{v}</td></tr>",
+            esc(k)
+        );
+    }
+    s.push_str("</table>\n");
+}
+
+fn chart(s: &mut String, svg: &str) {
+    let _ = writeln!(s, "<div class=\"chart\">{}</div>", svg.trim());
+}
+
+/// The page.
+pub fn report_html(
+    result: &UpdateResult,
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    inputs: &ReportInputs,
+    data: &ReportData,
+    charts: &EmbeddedCharts,
+    files: &[String],
+) -> String {
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n<style>{CSS}</style>\n</head>\n<body>\n",
+        esc(&data.title)
+    );
+    let _ = writeln!(s, "<h1>{}</h1>", esc(&data.title));
+    let _ = writeln!(
+        s,
+        "<p class=\"muted\">FRF model updating (Yan &amp; Golinval): deck <code>{}</code>, test <code>{}</code></p>",
+        esc(&inputs.deck_path),
+        esc(&inputs.test_path)
+    );
+    summary(&mut s, result);
+    nav(&mut s);
+
+    let _ = writeln!(s, "<h2 id=\"measured\">What was measured</h2>");
+    measured(&mut s, test, inputs, data, result);
+    let _ = writeln!(s, "<h2 id=\"model\">The model</h2>");
+    model(&mut s, deck, inputs, data, result);
+    let _ = writeln!(s, "<h2 id=\"options\">Options</h2>");
+    options(&mut s, result, inputs);
+
+    let _ = writeln!(s, "<h2 id=\"convergence\">Convergence</h2>");
+    chart(&mut s, &charts.convergence);
+    parameters_table(&mut s, result);
+
+    let _ = writeln!(s, "<h2 id=\"sfdac\">SFDAC before and after</h2>");
+    chart(&mut s, &charts.sfdac);
+    sfdac_table(&mut s, result);
+
+    let _ = writeln!(s, "<h2 id=\"frequencies\">Resonance frequencies</h2>");
+    chart(&mut s, &charts.frequencies);
+    frequency_table(&mut s, result);
+
+    let _ = writeln!(s, "<h2 id=\"mac\">Mode shape correlation (MAC)</h2>");
+    chart(&mut s, &charts.mac);
+
+    let _ = writeln!(
+        s,
+        "<h2 id=\"frf\">FRFs: measured, initial and updated model</h2>"
+    );
+    let _ = writeln!(s, "<p>Model FRFs damped with: {}.</p>", esc(&data.damping));
+    chart(&mut s, &charts.frf_sheet);
+    for (label, svg) in &charts.frf_channels {
+        let _ = writeln!(
+            s,
+            "<details><summary>{} (magnitude and phase)</summary>",
+            esc(label)
+        );
+        chart(&mut s, svg);
+        s.push_str("</details>\n");
+    }
+
+    let _ = writeln!(s, "<h2 id=\"warnings\">Warnings</h2>");
+    warnings(&mut s, result, data);
+
+    let _ = writeln!(s, "<h2 id=\"files\">Files</h2>\n<ul>");
+    for f in files {
+        let _ = writeln!(s, "<li><a href=\"{0}\">{0}</a></li>", esc(f));
+    }
+    s.push_str("</ul>\n</body>\n</html>\n");
+    s
+}
+
+fn summary(s: &mut String, result: &UpdateResult) {
+    let (Some(first), Some(last)) = (
+        result.iterations.first(),
+        result.iterations.get(result.final_iteration),
+    ) else {
+        s.push_str("<p class=\"summary\">The run holds no iteration.</p>\n");
+        return;
+    };
+    let rows = frequency_rows(result);
+    let dev = |u: bool| {
+        mean_abs_dev(&rows, u)
+            .map(|v| format!("{} %", fx(v, 2)))
+            .unwrap_or_else(|| "–".into())
+    };
+    let _ = writeln!(
+        s,
+        "<p class=\"summary\"><b>{}</b> after {} iteration(s) ({}); returned iteration {}.<br>\
+         SFDAC mean {} → <b>{}</b>, minimum {} → <b>{}</b>; mean |Δf| of the paired resonances {} → <b>{}</b>.</p>",
+        if result.converged { "Converged" } else { "Not converged" },
+        result.iterations.len().saturating_sub(1),
+        esc(result.stop.name()),
+        result.final_iteration,
+        fx(first.sfdac.mean, 3),
+        fx(last.sfdac.mean, 3),
+        fx(first.sfdac.min, 3),
+        fx(last.sfdac.min, 3),
+        dev(false),
+        dev(true)
+    );
+}
+
+fn nav(s: &mut String) {
+    s.push_str("<p>");
+    let items = [
+        ("measured", "measured"),
+        ("model", "model"),
+        ("options", "options"),
+        ("convergence", "convergence"),
+        ("sfdac", "SFDAC"),
+        ("frequencies", "frequencies"),
+        ("mac", "MAC"),
+        ("frf", "FRFs"),
+        ("warnings", "warnings"),
+        ("files", "files"),
+    ];
+    let links: Vec<String> = items
+        .iter()
+        .map(|(id, t)| format!("<a href=\"#{id}\">{t}</a>"))
+        .collect();
+    s.push_str(&links.join(" · "));
+    s.push_str("</p>\n");
+}
+
+fn measured(
+    s: &mut String,
+    test: &MeasuredFrfs,
+    inputs: &ReportInputs,
+    data: &ReportData,
+    result: &UpdateResult,
+) {
+    let lines = &test.frequencies_hz;
+    let band = match (lines.first(), lines.last()) {
+        (Some(a), Some(b)) => format!("{} – {} Hz", fx(*a, 3), fx(*b, 3)),
+        _ => "–".into(),
+    };
+    let spacing = if lines.len() > 1 {
+        format!(
+            "{} Hz",
+            fx(
+                (lines[lines.len() - 1] - lines[0]) / (lines.len() - 1) as f64,
+                4
+            )
+        )
+    } else {
+        "–".into()
+    };
+    let used = if data.measured_labels.is_empty() {
+        "none".to_string()
+    } else {
+        esc(&data.measured_labels.join(", "))
+    };
+    kv(
+        s,
+        &[
+            (
+                "test file",
+                format!("<code>{}</code>", esc(&inputs.test_path)),
+            ),
+            (
+                "FRF kind",
+                format!("{} ({})", test.kind.name(), esc(test.kind.units())),
+            ),
+            ("channels in the file", test.channels.len().to_string()),
+            (
+                "channels used (response DOFs)",
+                format!("{} : {used}", data.measured_labels.len()),
+            ),
+            ("excitation (reference DOF)", esc(&data.excitation)),
+            ("frequency lines", lines.len().to_string()),
+            ("band", band),
+            ("line spacing", spacing),
+            (
+                "resonances found / used",
+                format!("{} / {}", result.resonances.len(), result.resonances_used),
+            ),
+        ],
+    );
+    if !result.resonances.is_empty() {
+        s.push_str("<table>\n<tr><th>resonance</th><th>frequency (Hz)</th><th>damping ζ (%)</th><th>prominence</th><th>used</th></tr>\n");
+        for (i, r) in result.resonances.iter().enumerate() {
+            row(
+                s,
+                &[
+                    ("", format!("R{}", i + 1)),
+                    ("", fx(r.frequency_hz, 3)),
+                    (
+                        "",
+                        r.damping_ratio
+                            .map(|z| fx(100.0 * z, 3))
+                            .unwrap_or_else(|| "–".into()),
+                    ),
+                    ("", fx(r.prominence, 1)),
+                    (
+                        "",
+                        if i < result.resonances_used {
+                            "yes".into()
+                        } else {
+                            "no".into()
+                        },
+                    ),
+                ],
+            );
+        }
+        s.push_str("</table>\n");
+    }
+}
+
+fn model(
+    s: &mut String,
+    deck: &Deck,
+    inputs: &ReportInputs,
+    data: &ReportData,
+    result: &UpdateResult,
+) {
+    let deck_damping = match &deck.damping {
+        None => "none".to_string(),
+        Some(d) => format!("{:?}", d.model),
+    };
+    kv(
+        s,
+        &[
+            (
+                "deck file",
+                format!("<code>{}</code>", esc(&inputs.deck_path)),
+            ),
+            ("title", esc(&deck.title())),
+            ("analysis", deck.analysis.name().to_string()),
+            (
+                "nodes / beams / masses / springs / fixes",
+                format!(
+                    "{} / {} / {} / {} / {}",
+                    deck.nodes.len(),
+                    deck.beams.len(),
+                    deck.masses.len(),
+                    deck.springs.len(),
+                    deck.fixes.len()
+                ),
+            ),
+            ("free DOFs", data.model_dofs.to_string()),
+            ("deck damping", esc(&deck_damping)),
+            ("modes in the SEREP basis (N_md)", result.modes.to_string()),
+        ],
+    );
+    s.push_str("<table>\n<tr><th class=\"l\">parameter</th><th class=\"l\">quantity</th><th class=\"l\">IDs</th><th>updated p̄</th><th>factor 1 + p̄</th></tr>\n");
+    let values = result
+        .iterations
+        .get(result.final_iteration)
+        .map(|r| r.parameters.clone())
+        .unwrap_or_default();
+    for (j, name) in result.parameter_names.iter().enumerate() {
+        let (qty, ids) = match deck.param(name) {
+            Some(p) => (
+                format!("{} ({})", p.quantity.name(), p.quantity.target().name()),
+                p.ids
+                    .iter()
+                    .map(|r| {
+                        if r.first == r.last {
+                            r.first.to_string()
+                        } else {
+                            format!("{}-{}", r.first, r.last)
+                        }
+                    })
+                    .collect::<Vec<_>>()
+                    .join(","),
+            ),
+            None => ("–".into(), "–".into()),
+        };
+        let p = values.get(j).copied().unwrap_or(f64::NAN);
+        row(
+            s,
+            &[
+                ("l", esc(name)),
+                ("l", esc(&qty)),
+                ("l", esc(&ids)),
+                ("", signed(p, 5)),
+                ("", fx(1.0 + p, 4)),
+            ],
+        );
+    }
+    s.push_str("</table>\n");
+}
+
+fn options(s: &mut String, result: &UpdateResult, inputs: &ReportInputs) {
+    let o = &result.options;
+    let opt = |v: Option<usize>| v.map(|x| x.to_string()).unwrap_or_else(|| "auto".into());
+    let inverse = match o.inverse {
+        InverseMethod::Svd => "SVD".to_string(),
+        InverseMethod::Perturb { relative } => format!("diagonal perturbation ({relative:e})"),
+    };
+    let freqs = o
+        .frequencies_hz
+        .as_ref()
+        .map(|f| f.iter().map(|x| fx(*x, 3)).collect::<Vec<_>>().join(", ") + " Hz")
+        .unwrap_or_else(|| format!("around resonances, offset ±{} %", fx(100.0 * o.offset, 1)));
+    let mut rows = vec![
+        (
+            "modes N_md",
+            format!("{} (used {})", opt(o.modes), result.modes),
+        ),
+        (
+            "resonances R",
+            format!("{} (used {})", opt(o.resonances), result.resonances_used),
+        ),
+        ("updating frequencies", freqs),
+        (
+            "natural-frequency equations",
+            if o.with_frequencies {
+                "yes".into()
+            } else {
+                "no".into()
+            },
+        ),
+        ("inverse of Z̄", inverse),
+        ("SVD gap ε", format!("{:e}", o.svd_eps)),
+        ("stop when max |p| <", format!("{}", o.tol)),
+        ("maximum iterations", o.max_iter.to_string()),
+        ("basis tolerance", format!("{:e}", o.basis_tolerance)),
+        ("minimum peak prominence", format!("{}", o.min_prominence)),
+        ("minimum MAC for pairing", format!("{}", o.mac_min)),
+        ("maximum |p̄|", format!("{}", o.max_parameter)),
+    ];
+    if let Some(c) = &inputs.command {
+        rows.push(("command", format!("<code>{}</code>", esc(c))));
+    }
+    kv(s, &rows);
+}
+
+fn parameters_table(s: &mut String, result: &UpdateResult) {
+    s.push_str("<table>\n<tr><th>iteration n</th>");
+    for n in &result.parameter_names {
+        let _ = write!(s, "<th>p̄ {}</th>", esc(n));
+    }
+    s.push_str("<th>SFDAC mean</th><th>SFDAC min</th><th>rank</th><th>σ₁/σ_rank</th><th>step scale</th></tr>\n");
+    for (i, r) in result.iterations.iter().enumerate() {
+        let _ = write!(
+            s,
+            "<tr{}><td>{}</td>",
+            if i == result.final_iteration {
+                " class=\"sel\""
+            } else {
+                ""
+            },
+            r.index
+        );
+        for p in &r.parameters {
+            let _ = write!(s, "<td>{}</td>", signed(*p, 5));
+        }
+        let cond = match (
+            r.singular_values.first(),
+            r.rank.checked_sub(1).and_then(|k| r.singular_values.get(k)),
+        ) {
+            (Some(a), Some(b)) if *b > 0.0 => format!("{:.3e}", a / b),
+            _ => "–".into(),
+        };
+        let _ = writeln!(
+            s,
+            "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            fx(r.sfdac.mean, 4),
+            fx(r.sfdac.min, 4),
+            if r.index == 0 {
+                "–".to_string()
+            } else {
+                format!("{} / {}", r.rank, result.parameter_names.len())
+            },
+            cond,
+            fx(r.step_scale, 3)
+        );
+    }
+    s.push_str("</table>\n<p class=\"muted\">p̄: relative change of each parameter from its deck value (dimensionless); the highlighted row is the returned model.</p>\n");
+}
+
+fn sfdac_table(s: &mut String, result: &UpdateResult) {
+    let (Some(first), Some(last)) = (
+        result.iterations.first(),
+        result.iterations.get(result.final_iteration),
+    ) else {
+        return;
+    };
+    s.push_str("<table>\n<tr><th>i</th><th>frequency (Hz)</th><th class=\"l\">chosen</th><th>SFDAC initial</th><th>SFDAC updated</th></tr>\n");
+    for (i, u) in result.updating_frequencies.frequencies.iter().enumerate() {
+        let source = match u.source {
+            FrequencySource::Resonance { resonance, side } => {
+                format!(
+                    "{} R{}",
+                    if side < 0 { "below" } else { "above" },
+                    resonance + 1
+                )
+            }
+            FrequencySource::Explicit => "explicit".into(),
+        };
+        let v = |x: &[f64]| x.get(i).map(|v| fx(*v, 4)).unwrap_or_else(|| "–".into());
+        row(
+            s,
+            &[
+                ("", (i + 1).to_string()),
+                ("", fx(u.hz, 3)),
+                ("l", source),
+                ("", v(&first.sfdac.values)),
+                ("", v(&last.sfdac.values)),
+            ],
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<tr class=\"sel\"><td></td><td></td><td class=\"l\">mean</td><td>{}</td><td>{}</td></tr>\n<tr class=\"sel\"><td></td><td></td><td class=\"l\">minimum</td><td>{}</td><td>{}</td></tr>\n</table>",
+        fx(first.sfdac.mean, 4),
+        fx(last.sfdac.mean, 4),
+        fx(first.sfdac.min, 4),
+        fx(last.sfdac.min, 4)
+    );
+}
+
+fn frequency_table(s: &mut String, result: &UpdateResult) {
+    if result.iterations.get(result.final_iteration).is_none() {
+        return;
+    }
+    let rows = frequency_rows(result);
+    s.push_str("<table>\n<tr><th>resonance</th><th>test (Hz)</th><th>initial (Hz)</th><th>deviation (%)</th><th>MAC</th><th>updated (Hz)</th><th>deviation (%)</th><th>MAC</th></tr>\n");
+    for (i, r) in rows.iter().enumerate() {
+        let cells = |x: Option<(f64, f64)>| match x {
+            Some((f, m)) => (
+                fx(f, 3),
+                signed(100.0 * (f - r.test_hz) / r.test_hz, 2),
+                fx(m, 3),
+            ),
+            None => ("–".into(), "–".into(), "–".into()),
+        };
+        let (fi, di, mi) = cells(r.initial);
+        let (fu, du, mu) = cells(r.updated);
+        row(
+            s,
+            &[
+                ("", format!("R{}", i + 1)),
+                ("", fx(r.test_hz, 3)),
+                ("", fi),
+                ("", di),
+                ("", mi),
+                ("", fu),
+                ("", du),
+                ("", mu),
+            ],
+        );
+    }
+    let m = |u: bool| {
+        mean_abs_dev(&rows, u)
+            .map(|v| fx(v, 2))
+            .unwrap_or_else(|| "–".into())
+    };
+    let _ = writeln!(
+        s,
+        "<tr class=\"sel\"><td class=\"l\" colspan=\"3\">mean |deviation|</td><td>{}</td><td></td><td></td><td>{}</td><td></td></tr>\n</table>",
+        m(false),
+        m(true)
+    );
+}
+
+/// Warning groups shown in the page.
+fn group(w: &UpdateWarning) -> &'static str {
+    match w {
+        UpdateWarning::Indistinguishable { .. } | UpdateWarning::StepLimited { .. } => {
+            "Ill-conditioning and indistinguishable parameters"
+        }
+        UpdateWarning::UnmatchedChannels { .. }
+        | UpdateWarning::OtherReferences { .. }
+        | UpdateWarning::DuplicateChannel { .. } => "Channels skipped",
+        UpdateWarning::SkippedFrequency(_)
+        | UpdateWarning::NearFeResonance { .. }
+        | UpdateWarning::UnpairedResonance { .. } => "Frequencies and pairing",
+        UpdateWarning::DroppedModes { .. } | UpdateWarning::FewerModes { .. } => "SEREP basis",
+        UpdateWarning::Diverged { .. }
+        | UpdateWarning::ParameterExploded { .. }
+        | UpdateWarning::NotConverged { .. } => "Convergence",
+    }
+}
+
+fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData) {
+    const GROUPS: [&str; 5] = [
+        "Convergence",
+        "Ill-conditioning and indistinguishable parameters",
+        "Channels skipped",
+        "Frequencies and pairing",
+        "SEREP basis",
+    ];
+    if result.warnings.is_empty() && data.notes.is_empty() {
+        s.push_str("<p>None.</p>\n");
+        return;
+    }
+    for g in GROUPS {
+        let items: Vec<String> = result
+            .warnings
+            .iter()
+            .filter(|w| group(w) == g)
+            .map(|w| esc(&w.to_string()))
+            .collect();
+        if items.is_empty() {
+            continue;
+        }
+        let _ = writeln!(s, "<h3>{g}</h3>\n<ul class=\"warn\">");
+        for i in items {
+            let _ = writeln!(s, "<li>{i}</li>");
+        }
+        s.push_str("</ul>\n");
+    }
+    if !data.notes.is_empty() {
+        s.push_str("<h3>Report</h3>\n<ul class=\"warn\">\n");
+        for n in &data.notes {
+            let _ = writeln!(s, "<li>{}</li>", esc(n));
+        }
+        s.push_str("</ul>\n");
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn escaping_and_numbers() {
+        assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
+        assert_eq!(signed(-0.00001, 3), "0.000");
+        assert_eq!(signed(-1.5, 1), "−1.5");
+        assert_eq!(signed(1.5, 1), "+1.5");
+        assert_eq!(signed(f64::NAN, 1), "–");
+    }
+}
