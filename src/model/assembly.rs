@@ -300,10 +300,12 @@ pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelErro
     let (symbolic, argsort) = SymbolicSparseColMat::try_new_from_indices(n, n, &pairs)
         .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
     drop(pairs);
-    let stiffness = SparseMatrix::new_from_argsort(symbolic.clone(), &argsort, &kv)
+    let mut stiffness = SparseMatrix::new_from_argsort(symbolic.clone(), &argsort, &kv)
         .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
-    let mass = SparseMatrix::new_from_argsort(symbolic, &argsort, &mv)
+    let mut mass = SparseMatrix::new_from_argsort(symbolic, &argsort, &mv)
         .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+    mirror_upper(&mut stiffness);
+    mirror_upper(&mut mass);
 
     let parameters = sensitivity::derivatives(deck, &layout, n)?;
     let damping = match deck.damping.map(|d| d.model) {
@@ -356,10 +358,42 @@ pub(crate) fn spring_entries(
     out
 }
 
-/// A sparse matrix from triplets (duplicates summed).
+/// Make a structurally symmetric matrix symmetric to the bit: copy each
+/// upper-triangle value onto its lower-triangle mirror. (Duplicate entries
+/// are summed in sort order, which can differ between (i, j) and (j, i) and
+/// leave differences of one rounding.)
+pub(crate) fn mirror_upper(a: &mut SparseMatrix) {
+    let moves: Vec<(usize, usize)> = {
+        let sym = a.symbolic();
+        let (cp, ri) = (sym.col_ptr(), sym.row_idx());
+        let mut moves = Vec::new();
+        for j in 0..sym.ncols() {
+            for k in cp[j]..cp[j + 1] {
+                let i = ri[k];
+                if i > j {
+                    // The mirror (j, i) lives in column i.
+                    let col = &ri[cp[i]..cp[i + 1]];
+                    if let Ok(pos) = col.binary_search(&j) {
+                        moves.push((k, cp[i] + pos));
+                    }
+                }
+            }
+        }
+        moves
+    };
+    let val = a.val_mut();
+    for (dst, src) in moves {
+        val[dst] = val[src];
+    }
+}
+
+/// A sparse matrix from triplets (duplicates summed), symmetric to the bit.
 pub(crate) fn from_triplets(
     n: usize,
     t: &[Triplet<usize, usize, f64>],
 ) -> Result<SparseMatrix, ModelError> {
-    SparseMatrix::try_new_from_triplets(n, n, t).map_err(|e| ModelError::Sparse(format!("{e:?}")))
+    let mut a = SparseMatrix::try_new_from_triplets(n, n, t)
+        .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
+    mirror_upper(&mut a);
+    Ok(a)
 }

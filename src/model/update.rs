@@ -39,15 +39,19 @@ fn derived_name(base: &str, taken: &mut BTreeSet<String>) -> String {
 
 fn scaled_material(m: &Material, f: &[f64]) -> Material {
     let (fe, fg, frho) = (f[0], f[1], f[2]);
-    let g = match m.g {
-        Some(g) => Some(g * fg),
-        None if fg != 1.0 => Some(m.e * fe / (2.0 * (1.0 + m.nu())) * fg),
-        None => None,
+    // Without an explicit G, G = E/(2(1+ν)) follows E; keep it that way (so
+    // that ∂/∂E stays the same when the deck is updated again) by folding the
+    // factor on G into ν: E/(2(1+ν')) = f_G·E/(2(1+ν)) ⇔ 1+ν' = (1+ν)/f_G.
+    let (g, nu) = match m.g {
+        Some(g) => (Some(g * fg), m.nu),
+        None if fg != 1.0 => (None, Some((1.0 + m.nu()) / fg - 1.0)),
+        None => (None, m.nu),
     };
     Material {
         e: m.e * fe,
         rho: m.rho * frho,
         g,
+        nu,
         ..m.clone()
     }
 }
@@ -68,8 +72,8 @@ fn scaled_section(s: &Section, f: &[f64]) -> Section {
 /// (section) named `{name}_u{k}`; the group of untouched beams (or else the
 /// first group in beam order) keeps the original. The `param` statements are
 /// kept, so the result can be updated again (new values are relative to the
-/// updated numbers). A material without `G` gets an explicit `G` only if `G`
-/// itself was changed. Unknown names in `values` are ignored.
+/// updated numbers). For a material without `G` a change of G goes into ν
+/// (G keeps following E). Unknown names in `values` are ignored.
 pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
     let idx = Indices::new(deck);
     let f = factors(deck, &idx, values);

@@ -82,11 +82,13 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
             out.positive(m.pos, "G", "shear modulus", g);
         }
         if let Some(nu) = m.nu {
-            if !(nu > -1.0 && nu <= 0.5) {
+            // ν ≤ 0.5 for a physical isotropic solid, but updated decks may
+            // carry equivalent values; only G = E/(2(1+ν)) > 0 is required.
+            if !(nu > -1.0 && nu.is_finite()) {
                 out.push(
                     m.pos,
                     Arg::Key("nu"),
-                    format!("Poisson's ratio `nu` must lie in (-1, 0.5], found {nu}"),
+                    format!("Poisson's ratio `nu` must exceed -1 (so that G = E/(2(1+nu)) > 0), found {nu}"),
                 );
             }
         }
