@@ -24,15 +24,28 @@ fn ascii58(record7: &str, data: &str) -> Vec<u8> {
     format!("{HEADER}{record7}\n{AXES}{data}    -1\n").into_bytes()
 }
 
+/// `uff::parse`, checked against the streaming reader with tiny and normal
+/// chunks, on one and two threads: same result, same first error.
+fn read(bytes: &[u8]) -> Result<uff::UffFile, UffError> {
+    let whole = uff::parse(bytes);
+    for chunk in [1, 2, 5, 16, 100, 1 << 20] {
+        for threads in [1, 2] {
+            let streamed = uff::parse_reader_with(bytes, chunk, threads);
+            assert_eq!(streamed, whole, "chunk {chunk}, threads {threads}");
+        }
+    }
+    whole
+}
+
 fn error(bytes: &[u8]) -> UffError {
-    match uff::parse(bytes) {
+    match read(bytes) {
         Ok(f) => panic!("expected an error, read {} datasets", f.datasets.len()),
         Err(e) => e,
     }
 }
 
 fn real(bytes: &[u8]) -> Vec<f64> {
-    let file = uff::parse(bytes).unwrap_or_else(|e| panic!("{e}"));
+    let file = read(bytes).unwrap_or_else(|e| panic!("{e}"));
     match &file.datasets[0] {
         Dataset::Function(f) => match &f.ordinate {
             Ordinate::Real(v) => v.clone(),
@@ -76,7 +89,7 @@ fn short_last_line_and_padding() {
     ));
     assert_eq!(v.len(), 5);
     // Zero padding of the last line is dropped with a note.
-    let file = uff::parse(&ascii58(
+    let file = read(&ascii58(
         r7,
         "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00  5.00000E+00  0.00000E+00\n",
     ))
@@ -208,7 +221,7 @@ fn binary_quirks() {
 fn binary_wrong_byte_count() {
     let data = f32s(&[1.0, 2.0, 3.0, 4.0]);
     // Header says 12 bytes, the data has 16: record 7 decides, with a note.
-    let file = uff::parse(&binary58(12, &data, b"    -1\n")).expect("record 7 length accepted");
+    let file = read(&binary58(12, &data, b"    -1\n")).expect("record 7 length accepted");
     assert_eq!(file.notes.len(), 1);
     // Fewer bytes than record 7 needs.
     let e = error(&binary58(12, &data[..12], b"    -1\n"));
@@ -253,7 +266,7 @@ fn unknown_dataset_is_skipped_with_a_note() {
         R7_REAL4,
         "  1.00000E+00  2.00000E+00  3.00000E+00  4.00000E+00\n",
     ));
-    let file = uff::parse(&bytes).expect("reads");
+    let file = read(&bytes).expect("reads");
     assert_eq!(file.datasets.len(), 2);
     assert!(
         file.notes
@@ -275,7 +288,7 @@ fn latin1_and_utf8_headers() {
         .position(|w| w == b"Quirk test")
         .expect("id line");
     bytes[pos + 5] = 0xe9; // Latin-1 é
-    let file = uff::parse(&bytes).expect("reads");
+    let file = read(&bytes).expect("reads");
     let Dataset::Function(f) = &file.datasets[0] else {
         panic!("58")
     };

@@ -12,8 +12,10 @@
 
 mod function58;
 pub mod geometry;
+mod number;
 pub mod other;
 mod split;
+mod stream;
 mod text;
 pub mod units;
 pub mod write;
@@ -168,9 +170,9 @@ impl std::error::Error for UffError {}
 const PARALLEL_MIN_BYTES: usize = 1 << 20;
 
 /// One parsed block: the dataset and the notes made while parsing it.
-type BlockResult = Result<(Dataset, Vec<String>), UffError>;
+pub(crate) type BlockResult = Result<(Dataset, Vec<String>), UffError>;
 
-fn parse_block(bytes: &[u8], block: &split::Block) -> BlockResult {
+pub(crate) fn parse_block(bytes: &[u8], block: &split::Block) -> BlockResult {
     let mut notes = block.notes.clone();
     let dataset = if block.number == 58 {
         Dataset::Function(Box::new(function58::parse(bytes, block, &mut notes)?))
@@ -241,10 +243,11 @@ fn parse_blocks(bytes: &[u8], blocks: &[split::Block]) -> Vec<Option<BlockResult
 /// CONTRACT. Parse a whole file from its bytes.
 ///
 /// Never panics; a malformed file gives an [`UffError`] naming the line (or
-/// byte offset), dataset index and number, and what was expected. Line
-/// numbers count line breaks of text parts (58b binary data count as one line).
+/// byte offset), dataset index and number, and what was expected: the first
+/// error in file order. Line numbers count line breaks of text parts (58b
+/// binary data count as one line). Same result as [`parse_reader`].
 pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
-    let split = split::split(bytes)?;
+    let (split, failure) = split::split(bytes);
     let results = parse_blocks(bytes, &split.blocks);
     let mut file = UffFile {
         datasets: Vec::with_capacity(split.blocks.len()),
@@ -264,7 +267,42 @@ pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
         file.datasets.push(dataset);
         file.notes.extend(notes);
     }
-    Ok(file)
+    match failure {
+        Some(e) => Err(e),
+        None => Ok(file),
+    }
+}
+
+/// Parse a file from a reader, streaming: the file is read in 1 MiB chunks,
+/// cut at dataset boundaries, and finished datasets are parsed on one worker
+/// thread per core while reading goes on; their text is dropped once parsed,
+/// so memory stays near the size of the decoded data. Gives the same result
+/// (and the same first error, with file line numbers and byte offsets) as
+/// [`parse`] on the whole file. A read error is reported as an [`UffError`]
+/// whose message starts with `read error:`.
+pub fn parse_reader<R: std::io::Read>(reader: R) -> Result<UffFile, UffError> {
+    stream::parse_reader_with(reader, stream::CHUNK, stream::default_threads())
+}
+
+/// [`parse_reader`] with a chosen chunk size (bytes, at least 1) and worker
+/// count (1: no threads). For tests and benchmarks; results do not depend on
+/// either.
+#[doc(hidden)]
+pub fn parse_reader_with<R: std::io::Read>(
+    reader: R,
+    chunk_bytes: usize,
+    threads: usize,
+) -> Result<UffFile, UffError> {
+    stream::parse_reader_with(reader, chunk_bytes, threads)
+}
+
+/// Open and [`parse_reader`] a file. An error opening it is an
+/// `std::io::Error`; the caller adds the file name to either error.
+pub fn parse_file(
+    path: impl AsRef<std::path::Path>,
+) -> Result<Result<UffFile, UffError>, std::io::Error> {
+    let file = std::fs::File::open(path)?;
+    Ok(parse_reader(file))
 }
 
 /// CONTRACT. Write dataset 58 records (58b where `binary` is true) to `out`.

@@ -45,13 +45,6 @@ pub(crate) struct Binary {
     pub record7: Record7,
 }
 
-/// The blocks of a file and the remarks made while splitting.
-#[derive(Debug, Default)]
-pub(crate) struct Split {
-    pub blocks: Vec<Block>,
-    pub notes: Vec<String>,
-}
-
 fn error(
     line: Option<usize>,
     offset: usize,
@@ -80,37 +73,169 @@ fn dataset_number(text: &[u8]) -> Option<(u32, bool)> {
     Some((number, binary))
 }
 
-/// Splits `bytes` into dataset blocks.
-pub(crate) fn split(bytes: &[u8]) -> Result<Split, UffError> {
-    let mut out = Split::default();
-    let mut lines = Lines::new(bytes, 0..bytes.len(), 1);
-    let mut stray: Option<(usize, usize)> = None; // (first line, count) of text outside datasets
-    while let Some(line) = lines.next() {
-        if !text::is_delimiter(line.text) {
-            if !text::is_blank_line(line.text) {
-                stray = Some(stray.map_or((line.number, 1), |(l, c)| (l, c + 1)));
-            }
-            continue;
+/// Outcome of one [`Splitter::next`] call.
+#[derive(Debug)]
+pub(crate) enum Step {
+    /// The next dataset block.
+    Block(Block),
+    /// The buffer ends before the next block does: call again with more bytes.
+    NeedMore,
+    /// No more blocks (the file ended).
+    End,
+}
+
+/// Inner outcome of one block attempt.
+enum Attempt {
+    Block(Block),
+    NeedMore,
+    /// The file ends right after a `-1` delimiter.
+    EndOfFile,
+}
+
+/// Splits a file into dataset blocks, incrementally.
+///
+/// The caller passes a buffer holding the file from some point on (`eof`
+/// true when the buffer reaches the end of the file). Positions in blocks and
+/// errors are relative to that buffer; line numbers are absolute. A block is
+/// only returned once its last byte (and what decides where it ends, e.g. the
+/// `-1` after 58b data) is in the buffer, so results do not depend on how the
+/// file is cut into buffers. After [`Step::NeedMore`], call again with the
+/// same bytes plus more after them (bytes before [`Splitter::pos`] may be
+/// dropped with [`Splitter::consume`]).
+#[derive(Debug)]
+pub(crate) struct Splitter {
+    /// Remarks made while splitting (stray lines, repeated delimiters).
+    pub notes: Vec<String>,
+    /// Buffer position of the first byte not yet split.
+    pos: usize,
+    /// Line number at `pos`.
+    number: usize,
+    /// (first line, count) of text outside datasets, not yet reported.
+    stray: Option<(usize, usize)>,
+    /// Blocks returned so far.
+    blocks: usize,
+    finished: bool,
+}
+
+impl Default for Splitter {
+    fn default() -> Self {
+        Splitter {
+            notes: Vec::new(),
+            pos: 0,
+            number: 1,
+            stray: None,
+            blocks: 0,
+            finished: false,
         }
-        if let Some((first, count)) = stray.take() {
-            out.notes.push(format!(
+    }
+}
+
+impl Splitter {
+    /// Buffer position of the first byte not yet split.
+    pub fn pos(&self) -> usize {
+        self.pos
+    }
+
+    /// The caller dropped the first `n` (<= `pos`) bytes of its buffer.
+    pub fn consume(&mut self, n: usize) {
+        self.pos -= n.min(self.pos);
+    }
+
+    /// The next block of `bytes[pos..]`; `eof` tells whether `bytes` ends
+    /// where the file does.
+    pub fn next(&mut self, bytes: &[u8], eof: bool) -> Result<Step, UffError> {
+        if self.finished {
+            return Ok(Step::End);
+        }
+        let mut lines = Lines::partial(bytes, self.pos..bytes.len(), self.number, eof);
+        loop {
+            let Some(line) = lines.next() else {
+                if lines.incomplete {
+                    return Ok(Step::NeedMore);
+                }
+                return self.finish();
+            };
+            if !text::is_delimiter(line.text) {
+                if !text::is_blank_line(line.text) {
+                    self.stray = Some(self.stray.map_or((line.number, 1), |(l, c)| (l, c + 1)));
+                }
+                self.pos = lines.pos;
+                self.number = lines.number;
+                continue;
+            }
+            let (notes, stray) = (self.notes.len(), self.stray);
+            match self.block(bytes, &mut lines, line, eof) {
+                Ok(Attempt::Block(block)) => {
+                    self.pos = lines.pos;
+                    self.number = lines.number;
+                    self.blocks += 1;
+                    return Ok(Step::Block(block));
+                }
+                Ok(Attempt::NeedMore) => {
+                    // Undo the attempt: it is made again with more bytes.
+                    self.notes.truncate(notes);
+                    self.stray = stray;
+                    return Ok(Step::NeedMore);
+                }
+                Ok(Attempt::EndOfFile) => return self.finish(),
+                Err(e) => {
+                    self.finished = true;
+                    return Err(e);
+                }
+            }
+        }
+    }
+
+    fn finish(&mut self) -> Result<Step, UffError> {
+        self.finished = true;
+        if let Some((first, count)) = self.stray.take() {
+            self.notes.push(format!(
+                "line {first}: {count} line(s) outside any dataset ignored"
+            ));
+        }
+        if self.blocks == 0 {
+            return Err(error(
+                None,
+                0,
+                None,
+                None,
+                "no UFF dataset found: expected a '    -1' line followed by a dataset number"
+                    .into(),
+            ));
+        }
+        Ok(Step::End)
+    }
+
+    /// One dataset starting at the delimiter `line`.
+    fn block(
+        &mut self,
+        bytes: &[u8],
+        lines: &mut Lines<'_>,
+        line: Line<'_>,
+        eof: bool,
+    ) -> Result<Attempt, UffError> {
+        if let Some((first, count)) = self.stray.take() {
+            self.notes.push(format!(
                 "line {first}: {count} line(s) outside any dataset ignored"
             ));
         }
         // Number line; extra `-1` lines in a row are tolerated.
         let mut number_line = lines.next();
         while let Some(l) = number_line.filter(|l| text::is_delimiter(l.text)) {
-            out.notes
+            self.notes
                 .push(format!("line {}: repeated -1 delimiter ignored", l.number));
             number_line = lines.next();
         }
-        let index = out.blocks.len();
+        let index = self.blocks;
         let Some(number_line) = number_line else {
-            out.notes.push(format!(
+            if lines.incomplete {
+                return Ok(Attempt::NeedMore);
+            }
+            self.notes.push(format!(
                 "line {}: file ends after a -1 delimiter",
                 line.number
             ));
-            break;
+            return Ok(Attempt::EndOfFile);
         };
         let Some((number, binary)) = dataset_number(number_line.text) else {
             return Err(error(
@@ -125,40 +250,56 @@ pub(crate) fn split(bytes: &[u8]) -> Result<Split, UffError> {
             ));
         };
         let block = if binary {
-            binary_block(bytes, &mut lines, number_line, index, number)?
+            binary_block(bytes, lines, number_line, index, number, eof)?
         } else {
-            text_block(&mut lines, number_line, index, number)?
+            text_block(lines, number_line, index, number)?
         };
-        out.blocks.push(block);
+        Ok(block.map_or(Attempt::NeedMore, Attempt::Block))
     }
-    if let Some((first, count)) = stray {
-        out.notes.push(format!(
-            "line {first}: {count} line(s) outside any dataset ignored"
-        ));
-    }
-    if out.blocks.is_empty() {
-        return Err(error(
-            None,
-            0,
-            None,
-            None,
-            "no UFF dataset found: expected a '    -1' line followed by a dataset number".into(),
-        ));
-    }
-    Ok(out)
+}
+
+/// The blocks of a whole file and the remarks made while splitting.
+#[derive(Debug, Default)]
+pub(crate) struct Split {
+    pub blocks: Vec<Block>,
+    pub notes: Vec<String>,
+}
+
+/// Splits the whole file `bytes` into dataset blocks. On an error, the
+/// blocks before it are returned with it (the first error in file order may
+/// be in one of them).
+pub(crate) fn split(bytes: &[u8]) -> (Split, Option<UffError>) {
+    let mut splitter = Splitter::default();
+    let mut blocks = Vec::new();
+    let failure = loop {
+        match splitter.next(bytes, true) {
+            Ok(Step::Block(b)) => blocks.push(b),
+            // With eof, the splitter never needs more bytes.
+            Ok(Step::End) | Ok(Step::NeedMore) => break None,
+            Err(e) => break Some(e),
+        }
+    };
+    (
+        Split {
+            blocks,
+            notes: splitter.notes,
+        },
+        failure,
+    )
 }
 
 /// An ASCII dataset: every line up to the closing `-1`.
+/// `Ok(None)`: the buffer ends first.
 fn text_block(
     lines: &mut Lines<'_>,
     number_line: Line<'_>,
     index: usize,
     number: u32,
-) -> Result<Block, UffError> {
+) -> Result<Option<Block>, UffError> {
     let text_start = lines.pos;
     for line in lines.by_ref() {
         if text::is_delimiter(line.text) {
-            return Ok(Block {
+            return Ok(Some(Block {
                 index,
                 number,
                 line: number_line.number,
@@ -168,8 +309,11 @@ fn text_block(
                 close_offset: line.start,
                 binary: None,
                 notes: Vec::new(),
-            });
+            }));
         }
+    }
+    if lines.incomplete {
+        return Ok(None);
     }
     Err(error(
         Some(lines.number.saturating_sub(1).max(number_line.number)),
@@ -203,10 +347,13 @@ fn binary_layouts(r7: &Record7) -> Vec<(Option<usize>, usize)> {
     }
 }
 
+/// Where the closing `-1` after 58b data is: (offset of the `-1` line,
+/// position after it, line breaks skipped before it).
+type Closing = (usize, usize, usize);
+
 /// After 58b data at `pos`: the closing `-1`, after optional blanks and line
-/// breaks. Returns (offset of the `-1` line, position after it, line breaks
-/// skipped before it).
-fn closing_after(bytes: &[u8], pos: usize) -> Option<(usize, usize, usize)> {
+/// breaks. `Err(())`: the buffer ends (not at `eof`) before this is decided.
+fn closing_after(bytes: &[u8], pos: usize, eof: bool) -> Result<Option<Closing>, ()> {
     let mut p = pos;
     let mut breaks = 0;
     let mut line_start = pos;
@@ -217,27 +364,49 @@ fn closing_after(bytes: &[u8], pos: usize) -> Option<(usize, usize, usize)> {
         }
         p += 1;
     }
-    if !bytes[p.min(bytes.len())..].starts_with(b"-1") {
-        return None;
+    let rest = &bytes[p.min(bytes.len())..];
+    if !rest.starts_with(b"-1") {
+        // "" or "-" at the end of a partial buffer may still become "-1".
+        return if !eof && b"-1".starts_with(rest) {
+            Err(())
+        } else {
+            Ok(None)
+        };
     }
     p += 2;
     while p < bytes.len() && bytes[p] != b'\n' {
         if !matches!(bytes[p], b' ' | b'\t' | b'\r') {
-            return None;
+            return Ok(None);
         }
         p += 1;
     }
-    Some((line_start, (p + 1).min(bytes.len()), breaks))
+    if p >= bytes.len() && !eof {
+        return Err(());
+    }
+    Ok(Some((line_start, (p + 1).min(bytes.len()), breaks)))
+}
+
+/// The value of an `Option` that is `None` when more bytes are needed;
+/// returns `Ok(None)` (need more) from the enclosing function otherwise.
+macro_rules! need {
+    ($e:expr) => {
+        match $e {
+            Some(v) => v,
+            None => return Ok(None),
+        }
+    };
 }
 
 /// A 58b dataset: header fields, ASCII records, then the binary data.
+/// `Ok(None)`: the buffer ends (not at `eof`) before the block is decided.
 fn binary_block(
     bytes: &[u8],
     lines: &mut Lines<'_>,
     number_line: Line<'_>,
     index: usize,
     number: u32,
-) -> Result<Block, UffError> {
+    eof: bool,
+) -> Result<Option<Block>, UffError> {
     let err = |line: Option<usize>, offset: usize, message: String| {
         error(line, offset, Some(index), Some(number), message)
     };
@@ -300,6 +469,9 @@ fn binary_block(
     let mut record7: Option<Record7> = None;
     for k in 0..ascii_lines as usize {
         let Some(line) = lines.next() else {
+            if lines.incomplete {
+                return Ok(None);
+            }
             return Err(err(
                 Some(lines.number),
                 lines.pos,
@@ -331,18 +503,35 @@ fn binary_block(
     let matches_declared = layouts
         .iter()
         .find(|(b, _)| b.is_some() && *b == declared_ok);
-    let mut chosen: Option<(usize, usize, (usize, usize, usize))> = None;
+    let mut chosen: Option<(usize, usize, Closing)> = None;
     let mut note = None;
+    // `None` from here on: more bytes are needed to decide.
+    let closing = |pos: usize| closing_after(bytes, pos, eof).ok();
     if let Some(&(Some(len), abscissa)) = matches_declared {
         if len <= available {
-            if let Some(close) = closing_after(bytes, data_start + len) {
+            if let Some(close) = need!(closing(data_start + len)) {
                 chosen = Some((len, abscissa, close));
             }
+        } else if !eof {
+            return Ok(None);
+        }
+    }
+    if chosen.is_none() && !eof {
+        // What follows compares lengths with what the file holds: wait for
+        // every candidate length to be in the buffer (or for the file end).
+        let longest = layouts
+            .iter()
+            .filter_map(|(b, _)| *b)
+            .chain(declared_ok)
+            .max()
+            .unwrap_or(0);
+        if longest > available {
+            return Ok(None);
         }
     }
     if chosen.is_none() {
         if let Some(d) = declared_ok.filter(|&d| d <= available) {
-            if closing_after(bytes, data_start + d).is_some() {
+            if need!(closing(data_start + d)).is_some() {
                 // The data hold what the header declares, but not what record 7 needs.
                 let expected: Vec<String> = layouts
                     .iter()
@@ -368,7 +557,7 @@ fn binary_block(
             let Some(len) = len.filter(|&l| l <= available) else {
                 continue;
             };
-            if let Some(close) = closing_after(bytes, data_start + len) {
+            if let Some(close) = need!(closing(data_start + len)) {
                 note = Some(format!(
                     "line {data_line}: 58b header declares {declared} bytes, but record 7 ({} points, ordinate type {}) implies {len}; read {len}",
                     record7.points, record7.ordinate_type
@@ -404,7 +593,7 @@ fn binary_block(
     };
     lines.pos = after;
     lines.number = data_line + breaks + 1;
-    Ok(Block {
+    Ok(Some(Block {
         index,
         number,
         line: number_line.number,
@@ -419,5 +608,5 @@ fn binary_block(
             record7,
         }),
         notes: note.into_iter().collect(),
-    })
+    }))
 }

@@ -5,6 +5,8 @@
 //! `D25.16`, ...). Writers differ, so numeric records are read by column first
 //! and by whitespace when the columns do not hold numbers.
 
+use super::number;
+
 /// One line of a text part, without its line break (`\n`, `\r\n`).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Line<'a> {
@@ -16,6 +18,9 @@ pub(crate) struct Line<'a> {
 }
 
 /// Iterates the lines of `bytes[pos..end]`, counting line numbers from `number`.
+///
+/// In partial mode (`eof` false: more of the file may follow `end`), a last
+/// line without its line break is not returned; `incomplete` is set instead.
 #[derive(Clone, Debug)]
 pub(crate) struct Lines<'a> {
     bytes: &'a [u8],
@@ -23,16 +28,31 @@ pub(crate) struct Lines<'a> {
     end: usize,
     /// Number of the next line to be returned.
     pub number: usize,
+    eof: bool,
+    /// Set when `next` stopped at a line that may continue past `end`.
+    pub incomplete: bool,
 }
 
 impl<'a> Lines<'a> {
     pub fn new(bytes: &'a [u8], range: std::ops::Range<usize>, number: usize) -> Self {
+        Self::partial(bytes, range, number, true)
+    }
+
+    /// Lines of a buffer that may end before the file does (`eof` false).
+    pub fn partial(
+        bytes: &'a [u8],
+        range: std::ops::Range<usize>,
+        number: usize,
+        eof: bool,
+    ) -> Self {
         let end = range.end.min(bytes.len());
         Lines {
             bytes,
             pos: range.start.min(end),
             end,
             number,
+            eof,
+            incomplete: false,
         }
     }
 }
@@ -43,12 +63,17 @@ impl<'a> Iterator for Lines<'a> {
     #[inline]
     fn next(&mut self) -> Option<Line<'a>> {
         if self.pos >= self.end {
+            self.incomplete = !self.eof;
             return None;
         }
         let rest = &self.bytes[self.pos..self.end];
         let (text, advance) = match memchr::memchr(b'\n', rest) {
             Some(i) => (&rest[..i], i + 1),
-            None => (rest, rest.len()),
+            None if self.eof => (rest, rest.len()),
+            None => {
+                self.incomplete = true;
+                return None;
+            }
         };
         let text = text.strip_suffix(b"\r").unwrap_or(text);
         let line = Line {
@@ -173,9 +198,30 @@ pub(crate) fn parse_real(field: &[u8]) -> Option<f64> {
     if t.is_empty() {
         return None;
     }
+    if let Some(v) = number::fast_real(t) {
+        return Some(v);
+    }
     match lexical_core::parse::<f64>(t) {
         Ok(v) => Some(v),
         Err(_) => parse_fortran_real(t),
+    }
+}
+
+/// The general path of a data field (leading blanks already skipped):
+/// lexical-core, then Fortran exponent rewriting. [`number::fast_real`] must
+/// agree with it wherever it answers.
+#[cfg(test)]
+pub(crate) fn parse_real_general(field: &[u8]) -> Option<f64> {
+    match lexical_core::parse::<f64>(field) {
+        Ok(v) => Some(v),
+        Err(_) => {
+            let t = trim(field);
+            if t.is_empty() {
+                None
+            } else {
+                parse_fortran_real(t)
+            }
+        }
     }
 }
 
@@ -272,6 +318,10 @@ pub(crate) fn reals_fixed(text: &[u8], widths: &[usize], out: &mut Vec<f64>) -> 
         let field = &text[start..end];
         pos = end;
         if field.is_empty() {
+            continue;
+        }
+        if let Some(v) = number::fast_real(field) {
+            out.push(v);
             continue;
         }
         match lexical_core::parse::<f64>(field) {
