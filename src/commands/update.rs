@@ -59,6 +59,15 @@ pub fn run(
     std::fs::create_dir_all(&cmd.out).map_err(|e| CommandError::output(&cmd.out, e))?;
     updating::write_outputs(&result, &deck, &cmd.out)
         .map_err(|e| CommandError::output(&cmd.out, e))?;
+    let inputs = crate::report::ReportInputs {
+        deck_path: cmd.deck.display().to_string(),
+        test_path: cmd.test.display().to_string(),
+        title: None,
+        command: None,
+    };
+    crate::report::write_report(&cmd.out, &result, &deck, &test, &inputs).map_err(|e| {
+        CommandError::input(format!("writing the report into {}: {e}", cmd.out.display()))
+    })?;
     let files = list_files(&cmd.out);
     Ok(UpdateOutcome {
         freq_error_initial_pct: mean_frequency_error_pct(&result, 0),
