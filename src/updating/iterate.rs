@@ -13,7 +13,9 @@
 //! Combining the two kinds of equation (Eq. 21–22): each block is divided by
 //! the Frobenius norm of its sensitivity matrix (A_h/‖A_h‖_F, b_h/‖A_h‖_F and
 //! likewise for A_ω, b_ω), so neither dominates and each block's own solution
-//! is unchanged. The FRF-only system is used as the paper writes it (no scaling).
+//! is unchanged. Before that, with `FrfWeighting::PerFrequency` (default),
+//! each frequency block A_i, b_i is divided by ‖h̄_i‖ so that every updating
+//! frequency counts alike; `FrfWeighting::None` keeps the paper's raw rows.
 
 use faer::Mat;
 use frfup_parsers::deck::Deck;
@@ -24,7 +26,10 @@ use super::measured::MeasuredDofs;
 use super::sensitivity::{frequency_equation, frf_equations, ModalSensitivities};
 use super::serep::{InverseMethod, SerepBasis};
 use super::svd_solve::solve_gap_rule;
-use super::{IterationRecord, StopReason, UpdateError, UpdateOptions, UpdateResult, UpdateWarning};
+use super::{
+    FrfWeighting, IterationRecord, StopReason, UpdateError, UpdateOptions, UpdateResult,
+    UpdateWarning,
+};
 use crate::model::{self, FeModel, ModelError, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use crate::testdata::MeasuredFrfs;
@@ -273,7 +278,9 @@ pub fn update_model(
         }
 
         // Assemble and solve A p = b.
-        let (a, b) = assemble(&eqs.a, &eqs.b, opts, &fe, &modes, &pairs, &test_hz, r_used);
+        let (a, b) = assemble(
+            &eqs.a, &eqs.b, &h_test, opts, &fe, &modes, &pairs, &test_hz, r_used,
+        );
         let sol = solve_gap_rule(a.as_ref(), &b, opts.svd_eps).map_err(UpdateError::Svd)?;
         if !sol.null_space.is_empty() && !warned_null {
             warned_null = true;
@@ -411,6 +418,7 @@ fn best_index(records: &[IterationRecord]) -> usize {
 fn assemble(
     a_h: &Mat<f64>,
     b_h: &[f64],
+    h_test: &[Vec<f64>],
     opts: &UpdateOptions,
     fe: &FeModel,
     modes: &Modes,
@@ -418,8 +426,25 @@ fn assemble(
     test_hz: &[f64],
     r_used: usize,
 ) -> (Mat<f64>, Vec<f64>) {
+    let mut a_h = a_h.clone();
+    let mut b_h = b_h.to_vec();
+    if opts.weighting == FrfWeighting::PerFrequency {
+        let n_ex = h_test.first().map_or(0, |h| h.len());
+        for (i, h) in h_test.iter().enumerate() {
+            let nrm = h.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if !(nrm > 0.0 && nrm.is_finite()) {
+                continue;
+            }
+            for e in i * n_ex..(i + 1) * n_ex {
+                b_h[e] /= nrm;
+                for j in 0..a_h.ncols() {
+                    a_h[(e, j)] /= nrm;
+                }
+            }
+        }
+    }
     if !opts.with_frequencies {
-        return (a_h.clone(), b_h.to_vec());
+        return (a_h, b_h);
     }
     let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
     for (t, pair) in pairs.iter().enumerate().take(r_used) {
@@ -444,7 +469,7 @@ fn assemble(
         }
         s.sqrt()
     };
-    let nh = fro(a_h);
+    let nh = fro(&a_h);
     let sh = if nh > 0.0 { 1.0 / nh } else { 1.0 };
     let nw = rows
         .iter()

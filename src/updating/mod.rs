@@ -28,6 +28,7 @@ pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, Updating
 pub use iterate::{update, update_model, update_with_progress};
 pub use output::write_outputs;
 pub use serep::{InverseMethod, SerepBasis};
+// FrfWeighting is defined in this module.
 
 /// Default relative diagonal perturbation of `--inverse perturb`.
 pub const DEFAULT_PERTURBATION: f64 = 1e-8;
@@ -46,6 +47,8 @@ pub struct UpdateOptions {
     pub frequencies_hz: Option<Vec<f64>>,
     /// Add the natural-frequency equations (Eq. 16–22).
     pub with_frequencies: bool,
+    /// Row weighting of the FRF equations (see [`FrfWeighting`]).
+    pub weighting: FrfWeighting,
     /// How Z̄ is inverted (§3.3).
     pub inverse: InverseMethod,
     /// ε of the SVD gap rule σ_{r+1}/σ_r < ε (Eq. 40).
@@ -73,6 +76,7 @@ impl Default for UpdateOptions {
             offset: 0.08,
             frequencies_hz: None,
             with_frequencies: false,
+            weighting: FrfWeighting::None,
             inverse: InverseMethod::Svd,
             svd_eps: 1e-4,
             tol: 0.01,
@@ -81,6 +85,26 @@ impl Default for UpdateOptions {
             min_prominence: 2.0,
             mac_min: 0.6,
             max_parameter: 10.0,
+        }
+    }
+}
+
+/// Row weighting of the stacked FRF equations (Eq. 11).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrfWeighting {
+    /// As the paper writes Eq. 11: rows in m/N. The FRF magnitude falls like
+    /// 1/ω², so the lowest updating frequencies dominate the least squares.
+    None,
+    /// Block i (A_i, b_i) divided by ‖h̄_i‖: every updating frequency counts
+    /// alike. The exact (noise-free) solution is unchanged.
+    PerFrequency,
+}
+
+impl FrfWeighting {
+    pub fn name(self) -> &'static str {
+        match self {
+            FrfWeighting::None => "none",
+            FrfWeighting::PerFrequency => "per-frequency",
         }
     }
 }

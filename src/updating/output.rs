@@ -156,6 +156,7 @@ pub fn report_json(result: &UpdateResult) -> Value {
             "offset": o.offset,
             "freqs": o.frequencies_hz,
             "with_frequencies": o.with_frequencies,
+            "weighting": o.weighting.name(),
             "inverse": inverse,
             "perturbation": perturbation,
             "svd_eps": o.svd_eps,
