@@ -68,8 +68,8 @@ fn cantilever_euler_bernoulli_converges_h4() {
         errors.push(e);
     }
     // Consistent-mass Hermite elements: frequency error O(h⁴), from above.
-    for k in 0..4 {
-        let ratio = errors[2][k] / errors[3][k];
+    for (k, (coarse, fine)) in errors[2].iter().zip(&errors[3]).enumerate() {
+        let ratio = coarse / fine;
         println!(
             "cantilever mode {}: error ratio 16→32 elements {ratio:.2}",
             k + 1
@@ -95,8 +95,8 @@ fn simply_supported_euler_bernoulli_converges_h4() {
         println!("simply supported n={n:2}: rel. errors {}", fmt(&e));
         errors.push(e);
     }
-    for k in 0..4 {
-        let ratio = errors[2][k] / errors[3][k];
+    for (k, (coarse, fine)) in errors[2].iter().zip(&errors[3]).enumerate() {
+        let ratio = coarse / fine;
         println!(
             "simply supported mode {}: error ratio 16→32 {ratio:.2}",
             k + 1

@@ -386,6 +386,10 @@ fn errors_display_line_column_message() {
 
 #[test]
 fn comments_blank_lines_tabs_and_crlf() {
+    assert_eq!(
+        parse("\u{feff}node 1 0 0 0\n").unwrap().nodes[0].pos,
+        Pos::new(1, 1)
+    );
     let d = parse("# c\r\n\r\n\tnode\t1  0\t0 0 # node\r\n   \r\nnode 2 1 0 0#x\r\n").unwrap();
     assert_eq!(d.nodes.len(), 2);
     assert_eq!(d.nodes[0].pos, Pos::new(3, 2));

@@ -1,6 +1,19 @@
 //! The FE model: built from a deck, assembled sparse, with the derivative of
 //! K and M with respect to every updating parameter.
 //!
+//! - [`build`]: [`Deck`](frfup_parsers::deck::Deck) + [`ParameterValues`] →
+//!   [`FeModel`] (K, M over the free DOFs, ∂K/∂p and ∂M/∂p of every `param`);
+//! - [`updated_deck`], [`parameter_names`]: the deck with values multiplied out;
+//! - [`elements`]: the element matrices (3D frame beam, Euler–Bernoulli or
+//!   Timoshenko; the plane x–z frame as its restriction to x, z, ry; lumped
+//!   masses and springs);
+//! - [`sensitivity`]: the parameter derivatives (complex step on the element
+//!   matrices; Eq. 30–31 of Yan & Golinval).
+//!
+//! Conventions (see `docs/deck.md`): SI units; right-hand rotations about the
+//! global axes, so in a plane analysis θy = −dw/dx; equations numbered by
+//! ascending node ID, then x y z rx ry rz.
+//!
 //! CONTRACT (shared with `solvers` and `updating`): the items in this file
 //! marked CONTRACT keep their names and meaning; add freely around them.
 

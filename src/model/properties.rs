@@ -92,7 +92,7 @@ pub(crate) fn check_values(deck: &Deck, values: &ParameterValues) -> Result<(), 
                 value,
             });
         }
-        if !(1.0 + value > 0.0) {
+        if 1.0 + value <= 0.0 {
             return Err(ModelError::NonPositiveProperty {
                 name: name.clone(),
                 value,

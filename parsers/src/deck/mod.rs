@@ -476,6 +476,8 @@ impl Deck {
 /// Parse deck text: syntax, then [`Deck::validate`]. The first error in
 /// source order is returned.
 pub fn parse(text: &str) -> Result<Deck, DeckError> {
+    // A UTF-8 byte-order mark is not part of the first line's text.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let deck = statements::parse_statements(text)?;
     validate::first_error(&deck, Some(text))?;
     Ok(deck)

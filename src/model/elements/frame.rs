@@ -43,7 +43,7 @@ pub fn local_frame(
     let d = b - a;
     let length = d.norm();
     let scale = a.amax().max(b.amax());
-    if !(length > ZERO_LENGTH_TOLERANCE * scale) || !length.is_finite() {
+    if !length.is_finite() || length <= ZERO_LENGTH_TOLERANCE * scale {
         return Err(FrameError::ZeroLength { length });
     }
     let ex = d / length;
