@@ -403,6 +403,25 @@ impl Sink {
         }
     }
 
+    /// `push` for each value, with the common layouts copied in bulk.
+    #[inline]
+    fn extend(&mut self, values: &[f64]) {
+        if self.even && !self.complex {
+            self.real.extend_from_slice(values);
+        } else if self.even && self.phase == 0 {
+            let pairs = values.chunks_exact(2);
+            let rest = pairs.remainder();
+            self.pairs.extend(pairs.map(|c| (c[0], c[1])));
+            for &v in rest {
+                self.push(v);
+            }
+        } else {
+            for &v in values {
+                self.push(v);
+            }
+        }
+    }
+
     fn finish(self, r7: &Record7) -> (Abscissa, Ordinate) {
         let abscissa = if r7.even {
             Abscissa::Even {
@@ -485,9 +504,7 @@ fn ascii_data(
             take = room;
         }
         count += take;
-        for &v in &buf[..take] {
-            sink.push(v);
-        }
+        sink.extend(&buf[..take]);
     }
     if let Some((line, extra)) = padded {
         notes.push(format!(

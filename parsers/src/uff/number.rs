@@ -23,21 +23,18 @@ const MAX_EXACT: u64 = 1 << 53;
 
 /// Parses `field` (no leading blanks) in the fast form; `None` when the field
 /// is not in that form or the value needs the general (slow) algorithm.
-#[inline]
+#[inline(always)]
 pub(crate) fn fast_real(field: &[u8]) -> Option<f64> {
+    // Signs are data (random in FRFs): handled without branches.
     let n = field.len();
-    let mut i = 0;
-    let negative = match field.first()? {
-        b'-' => {
-            i = 1;
-            true
+    let first = *field.first()?;
+    let negative = first == b'-';
+    let mut i = usize::from(negative | (first == b'+'));
+    if n - i == 11 {
+        if let Some(v) = e13_5(&field[i..]) {
+            return Some(f64::from_bits(v.to_bits() | (u64::from(negative) << 63)));
         }
-        b'+' => {
-            i = 1;
-            false
-        }
-        _ => false,
-    };
+    }
     let mut mantissa: u64 = 0;
     let int_start = i;
     while i < n {
@@ -79,17 +76,9 @@ pub(crate) fn fast_real(field: &[u8]) -> Option<f64> {
             return None;
         }
         i += 1;
-        let exp_negative = match field.get(i) {
-            Some(b'-') => {
-                i += 1;
-                true
-            }
-            Some(b'+') => {
-                i += 1;
-                false
-            }
-            _ => false,
-        };
+        let sign = *field.get(i)?;
+        let exp_negative = sign == b'-';
+        i += usize::from(exp_negative | (sign == b'+'));
         let digits = n - i;
         if !(1..=3).contains(&digits) {
             return None;
@@ -101,18 +90,52 @@ pub(crate) fn fast_real(field: &[u8]) -> Option<f64> {
             }
             exponent = exponent * 10 + i32::from(d);
         }
-        if exp_negative {
-            exponent = -exponent;
-        }
+        // exponent - 2 * exponent * negative, without a branch.
+        exponent -= 2 * exponent * i32::from(exp_negative);
     }
     let e10 = exponent - frac_digits as i32;
-    let m = mantissa as f64;
-    let value = if e10 >= 0 {
-        m * *POW10.get(e10 as usize)?
-    } else {
-        m / *POW10.get((-e10) as usize)?
-    };
-    Some(if negative { -value } else { value })
+    if !(-22..=22).contains(&e10) {
+        return None;
+    }
+    // One of the two operations is by 10^0 = 1 (exact), the other is the one
+    // correctly rounded operation: no branch on the exponent's sign.
+    let up = POW10[e10.max(0) as usize];
+    let down = POW10[(-e10).max(0) as usize];
+    let value = mantissa as f64 * up / down;
+    Some(f64::from_bits(
+        value.to_bits() | (u64::from(negative) << 63),
+    ))
+}
+
+/// The `E13.5` shape without its sign, `d.dddddE+dd` (11 bytes): straight-line
+/// code, no loops. `None` if `t` has another shape.
+#[inline(always)]
+fn e13_5(t: &[u8]) -> Option<f64> {
+    let t: &[u8; 11] = t.try_into().ok()?;
+    let d = |k: usize| u32::from(t[k].wrapping_sub(b'0'));
+    let (d0, d1, d2, d3, d4, d5, e1, e2) = (d(0), d(2), d(3), d(4), d(5), d(6), d(9), d(10));
+    let digits_ok = (d0 < 10)
+        & (d1 < 10)
+        & (d2 < 10)
+        & (d3 < 10)
+        & (d4 < 10)
+        & (d5 < 10)
+        & (e1 < 10)
+        & (e2 < 10);
+    let letter_ok = matches!(t[7], b'E' | b'e' | b'D' | b'd');
+    let sign_ok = (t[8] == b'-') | (t[8] == b'+');
+    if !(digits_ok & letter_ok & sign_ok & (t[1] == b'.')) {
+        return None;
+    }
+    let mantissa = d0 * 100_000 + d1 * 10_000 + d2 * 1000 + d3 * 100 + d4 * 10 + d5;
+    let exponent = (e1 * 10 + e2) as i32;
+    let e10 = if t[8] == b'-' { -exponent } else { exponent } - 5;
+    if !(-22..=22).contains(&e10) {
+        return None;
+    }
+    let up = POW10[e10.max(0) as usize];
+    let down = POW10[(-e10).max(0) as usize];
+    Some(f64::from(mantissa) * up / down)
 }
 
 #[cfg(test)]

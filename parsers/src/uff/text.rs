@@ -310,8 +310,20 @@ pub(crate) fn reals_fixed(text: &[u8], widths: &[usize], out: &mut Vec<f64>) -> 
         let w = widths[k];
         k = if k + 1 == widths.len() { 0 } else { k + 1 };
         let end = (pos + w).min(len);
-        // Fields are right-aligned: skip the leading blanks only (fast path).
+        // Fields are right-aligned: skip the leading blanks only (fast path);
+        // 8 at a time, as their count varies with the sign (a branch per
+        // blank would be mispredicted).
         let mut start = pos;
+        while let Some(word) = text.get(start..start + 8).filter(|_| start + 8 <= end) {
+            let mut a = [0u8; 8];
+            a.copy_from_slice(word);
+            let not_blank = u64::from_le_bytes(a) ^ 0x2020_2020_2020_2020;
+            let skip = (not_blank.trailing_zeros() / 8) as usize;
+            start += skip;
+            if skip < 8 {
+                break;
+            }
+        }
         while start < end && text[start] == b' ' {
             start += 1;
         }
