@@ -183,7 +183,8 @@ fn sparse_path_report_and_small_dimension_edge_cases() {
         let exact = fixed_free_omega(5, 1.0, 1.0, j + 1).powi(2);
         assert!((modes.omega2[j] - exact).abs() < 1e-12);
     }
-    assert!(report.shift < 0.0);
+    // σ may move up towards ω²₁ (fixed model) but stays below it.
+    assert!(report.shift < modes.omega2[0]);
     let empty = lowest_modes(&kk, &mm, &opts(0, false, true)).unwrap();
     assert!(empty.is_empty());
 }
@@ -215,4 +216,42 @@ fn bad_input_is_an_error_not_a_panic() {
         lowest_modes(&knan, &m0, &opts(2, true, true)),
         Err(EigenError::InvalidInput { .. })
     ));
+}
+
+#[test]
+fn clustered_spectrum_auto_shift_matches_dense() {
+    // Beam on a stiff elastic foundation: the lowest modes cluster just above
+    // k_f/ρA, the case the automatic shift (σ moved up below ω²₁) is for.
+    let (kb, mm) = eb_beam(150, 3.0, 50.0, 2.0, false);
+    let n = kb.nrows();
+    let mut extra: Vec<(usize, usize, f64)> = (0..n).step_by(2).map(|i| (i, i, 4.0e4)).collect();
+    let sym_k = {
+        let d = kb.to_dense();
+        for j in 0..n {
+            for i in 0..=j {
+                if d[(i, j)] != 0.0 {
+                    extra.push((i, j, d[(i, j)]));
+                }
+            }
+        }
+        sym(n, &extra)
+    };
+    let d = lowest_modes(&sym_k, &mm, &opts(30, true, true)).unwrap();
+    let (s, report) =
+        lowest_modes_with(&sym_k, &mm, &opts(30, false, true), &EigenTuning::default()).unwrap();
+    assert!(report.shift > 0.0 && report.shift < d.omega2[0]);
+    for j in 0..30 {
+        let rel = (d.omega2[j] - s.omega2[j]).abs() / d.omega2[j];
+        assert!(rel < 1e-10, "mode {j}: {rel:e}");
+    }
+    // A fixed negative shift (no auto shift) gives the same modes.
+    let fixed = EigenTuning {
+        shift: Some(-1.0),
+        ..EigenTuning::default()
+    };
+    let (f, rf) = lowest_modes_with(&sym_k, &mm, &opts(30, false, true), &fixed).unwrap();
+    assert_eq!(rf.shift, -1.0);
+    for j in 0..30 {
+        assert!((d.omega2[j] - f.omega2[j]).abs() / d.omega2[j] < 1e-10);
+    }
 }

@@ -6,9 +6,17 @@ use faer::{Accum, Mat, MatRef, Par};
 
 use crate::model::SparseMatrix;
 
-/// Parallelism used by the solvers: all threads of the rayon pool.
+/// Parallelism for large dense kernels (factorisations, dense eigensolver):
+/// all threads of the rayon pool.
 pub(crate) fn par() -> Par {
     Par::rayon(0)
+}
+
+/// Parallelism for the many small, memory-bound kernels of an iteration
+/// (triangular solves per supernode, skinny products): thread start-up and
+/// barriers cost more than they save there, especially on a loaded machine.
+pub(crate) fn par_iter() -> Par {
+    Par::Seq
 }
 
 /// Why a matrix pair is not usable.
@@ -61,7 +69,7 @@ pub(crate) fn to_dense(a: &SparseMatrix) -> Mat<f64> {
 /// A · X for sparse A and dense X.
 pub(crate) fn sp_mul(a: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
     let mut y = Mat::<f64>::zeros(a.nrows(), x.ncols());
-    sparse_dense_matmul(y.as_mut(), Accum::Replace, a.as_ref(), x, 1.0, par());
+    sparse_dense_matmul(y.as_mut(), Accum::Replace, a.as_ref(), x, 1.0, par_iter());
     y
 }
 

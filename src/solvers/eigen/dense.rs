@@ -26,6 +26,13 @@ pub fn shift_invert(
     shift: f64,
 ) -> Result<(Mat<f64>, f64), EigenError> {
     let n = k.nrows();
+    let trace = std::env::var_os("FRFUP_EIGEN_TRACE").is_some();
+    let t0 = std::time::Instant::now();
+    let lap = |what: &str| {
+        if trace {
+            eprintln!("[dense] {what}: {:.3} s", t0.elapsed().as_secs_f64());
+        }
+    };
     let kd = to_dense(k);
     let md = to_dense(m);
     let par = par();
@@ -55,6 +62,7 @@ pub fn shift_invert(
             ),
         });
     };
+    lap("cholesky");
     let l = l.as_ref();
     // W = L⁻¹ M, then C = L⁻¹ Wᵀ = L⁻¹ M L⁻ᵀ.
     let mut w = md;
@@ -62,6 +70,7 @@ pub fn shift_invert(
     let mut c = w.transpose().to_owned();
     drop(w);
     solve_lower_triangular_in_place(l, c.as_mut(), par);
+    lap("reduction");
     let mut s = faer::diag::Diag::<f64>::zeros(n);
     let mut u = Mat::<f64>::zeros(n, n);
     let mut mem = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
@@ -81,6 +90,7 @@ pub fn shift_invert(
     .map_err(|e| EigenError::NoConvergence {
         detail: format!("dense symmetric eigensolver: {e:?}"),
     })?;
+    lap("evd");
     drop(c);
     // Ascending μ: the last `count` columns, largest μ first.
     let mut y = Mat::from_fn(n, count, |i, j| u[(i, n - 1 - j)]);

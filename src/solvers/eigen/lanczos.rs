@@ -26,10 +26,12 @@ use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
 
 use super::{EigenError, EigenTuning};
 use crate::model::SparseMatrix;
-use crate::solvers::sparse_ops::{par, sp_mul, PairPattern};
+use crate::solvers::sparse_ops::{par, par_iter, sp_mul, PairPattern};
 
-/// P(K − σM)Pᵀ = L Lᵀ with access to the separate triangular solves.
+/// P(K − σM)Pᵀ = L Lᵀ with access to the separate triangular solves. The
+/// symbolic analysis is done once; [`ShiftedCholesky::refactor`] changes σ.
 pub struct ShiftedCholesky {
+    pattern: PairPattern,
     symbolic: SymbolicCholesky<usize>,
     values: Vec<f64>,
     /// (P v)_i = v_{fwd[i]}.
@@ -61,39 +63,51 @@ impl ShiftedCholesky {
             Some(p) => p.arrays().0.to_vec(),
             None => (0..n).collect(),
         };
-        let par = par();
-        let mut values = vec![0.0; symbolic.len_val()];
+        let values = vec![0.0; symbolic.len_val()];
+        let mut this = ShiftedCholesky {
+            pattern,
+            symbolic,
+            values,
+            fwd,
+            shift,
+        };
         let mut sigma = shift;
-        let mut mem =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
         for _ in 0..6 {
-            let a = pattern.combine(1.0, -sigma);
-            let res = symbolic.factorize_numeric_llt(
-                &mut values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            );
-            match res {
-                Ok(_) => {
-                    return Ok(ShiftedCholesky {
-                        symbolic,
-                        values,
-                        fwd,
-                        shift: sigma,
-                    })
-                }
-                Err(_) => sigma *= 100.0,
+            if this.refactor(sigma) {
+                return Ok(this);
             }
+            sigma *= 100.0;
         }
         Err(EigenError::InvalidInput {
             detail: format!(
                 "K − σM is not positive definite even for σ = {sigma:e}: K has negative eigenvalues"
             ),
         })
+    }
+
+    /// Factors K − σM for a new σ; false (and an unusable factor) if it is not
+    /// numerically positive definite, i.e. σ is not below the lowest ω².
+    pub fn refactor(&mut self, sigma: f64) -> bool {
+        let par = par();
+        let mut mem = MemBuffer::new(
+            self.symbolic
+                .factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        );
+        let a = self.pattern.combine(1.0, -sigma);
+        let ok = self
+            .symbolic
+            .factorize_numeric_llt(
+                &mut self.values,
+                a.as_ref(),
+                Side::Lower,
+                Default::default(),
+                par,
+                MemStack::new(&mut mem),
+                Default::default(),
+            )
+            .is_ok();
+        self.shift = sigma;
+        ok
     }
 
     /// Nonzeros stored in L.
@@ -111,7 +125,7 @@ impl ShiftedCholesky {
     fn solve_scratch(&self, ncols: usize) -> MemBuffer {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Supernodal(s) => {
-                MemBuffer::new(s.solve_in_place_scratch::<f64>(ncols, par()))
+                MemBuffer::new(s.solve_in_place_scratch::<f64>(ncols, par_iter()))
             }
             SymbolicCholeskyRaw::Simplicial(_) => unreachable!("supernodal factorisation forced"),
         }
@@ -119,7 +133,7 @@ impl ShiftedCholesky {
 
     /// out = C y = L⁻¹ P M Pᵀ L⁻ᵀ y.
     pub fn apply(&self, m: &SparseMatrix, y: MatRef<'_, f64>) -> Mat<f64> {
-        let par = par();
+        let par = par_iter();
         let mut mem = self.solve_scratch(y.ncols());
         let l = self.supernodal();
         let mut z = y.to_owned();
@@ -138,7 +152,7 @@ impl ShiftedCholesky {
         self.supernodal().l_transpose_solve_with_conj(
             Conj::No,
             z.as_mut(),
-            par(),
+            par_iter(),
             MemStack::new(&mut mem),
         );
         self.unpermute(z.as_ref())
@@ -149,8 +163,8 @@ impl ShiftedCholesky {
         let mut mem = self.solve_scratch(b.ncols());
         let l = self.supernodal();
         let mut w = self.permute(b);
-        l.l_solve_with_conj(Conj::No, w.as_mut(), par(), MemStack::new(&mut mem));
-        l.l_transpose_solve_with_conj(Conj::No, w.as_mut(), par(), MemStack::new(&mut mem));
+        l.l_solve_with_conj(Conj::No, w.as_mut(), par_iter(), MemStack::new(&mut mem));
+        l.l_transpose_solve_with_conj(Conj::No, w.as_mut(), par_iter(), MemStack::new(&mut mem));
         self.unpermute(w.as_ref())
     }
 
@@ -187,9 +201,43 @@ pub fn shift_invert(
     shift: f64,
     tuning: &EigenTuning,
 ) -> Result<SparseOutcome, EigenError> {
-    let chol = ShiftedCholesky::new(k, m, shift)?;
-    let op = |y: MatRef<'_, f64>| chol.apply(m, y);
+    let trace = std::env::var_os("FRFUP_EIGEN_TRACE").is_some();
+    let t0 = std::time::Instant::now();
+    let mut chol = ShiftedCholesky::new(k, m, shift)?;
+    if trace {
+        eprintln!(
+            "[sparse] factor: {:.3} s, nnz(L) = {}",
+            t0.elapsed().as_secs_f64(),
+            chol.factor_nonzeros()
+        );
+    }
+    if tuning.auto_shift {
+        move_shift_up(&mut chol, m, tuning);
+        if trace {
+            eprintln!(
+                "[sparse] shift {:e} after {:.3} s",
+                chol.shift,
+                t0.elapsed().as_secs_f64()
+            );
+        }
+    }
+    let op_time = std::cell::Cell::new(0.0);
+    let op = |y: MatRef<'_, f64>| {
+        let t = std::time::Instant::now();
+        let r = chol.apply(m, y);
+        op_time.set(op_time.get() + t.elapsed().as_secs_f64());
+        r
+    };
     let out = block_lanczos(&op, k.nrows(), count, tuning)?;
+    if trace {
+        eprintln!(
+            "[sparse] lanczos: {:.3} s total, {:.3} s in the operator ({} applications, {} restarts)",
+            t0.elapsed().as_secs_f64(),
+            op_time.get(),
+            out.applications,
+            out.restarts
+        );
+    }
     Ok(SparseOutcome {
         vectors: chol.back_transform(out.vectors.as_ref()),
         shift: chol.shift,
@@ -197,6 +245,47 @@ pub fn shift_invert(
         restarts: out.restarts,
         factor_nonzeros: chol.factor_nonzeros(),
     })
+}
+
+/// Moves σ up to just below the lowest ω² when the spectrum starts far above
+/// the initial σ₀ (fixed structures): the relative gaps (ω²_{i+1} − ω²_i)/(ω²_i − σ)
+/// that govern Krylov convergence grow by up to (ω²₁ − σ₀)/(ω²₁ − σ).
+///
+/// A short Lanczos run estimates ω²₁ ≈ σ₀ + 1/θ₁ (θ₁ ≤ μ₁, so this is an upper
+/// bound); σ = σ₀ + 0.9 (ω²₁ − σ₀). By Sylvester's law of inertia K − σM is
+/// positive definite iff σ < ω²₁, so a failed Cholesky means σ was too high:
+/// halve the step (three times), else return to σ₀.
+fn move_shift_up(chol: &mut ShiftedCholesky, m: &SparseMatrix, tuning: &EigenTuning) {
+    let sigma0 = chol.shift;
+    let n = chol.fwd.len();
+    // About five blocks: the estimate only has to be within a few per cent.
+    let probe = EigenTuning {
+        tolerance: 1e-2,
+        max_basis: 4 * tuning.block_size.max(1),
+        max_restarts: 1,
+        ..tuning.clone()
+    };
+    let op = |y: MatRef<'_, f64>| chol.apply(m, y);
+    let Ok(est) = block_lanczos_impl(&op, n, 1, &probe, true) else {
+        return;
+    };
+    let theta = est.values[0];
+    if !(theta > 0.0 && theta.is_finite()) {
+        return;
+    }
+    let gap = 1.0 / theta;
+    if gap < 100.0 * sigma0.abs() {
+        return; // Zero-energy modes or a spectrum starting near σ₀: keep σ₀.
+    }
+    let mut step = 0.9 * gap;
+    for _ in 0..4 {
+        if chol.refactor(sigma0 + step) {
+            return;
+        }
+        step *= 0.5;
+    }
+    // σ₀ factored before, so it does again.
+    let _ = chol.refactor(sigma0);
 }
 
 /// Largest eigenpairs of a symmetric operator.
@@ -225,22 +314,27 @@ impl Xorshift {
 /// Orthonormalises the columns of `z` against `v` (two passes) and among
 /// themselves (modified Gram–Schmidt, twice). Columns that vanish are replaced
 /// by pseudo-random vectors. Returns R with z_in ⊥ v = z_out R.
-fn orthonormalise(v: MatRef<'_, f64>, mut z: MatMut<'_, f64>, rng: &mut Xorshift) -> Mat<f64> {
-    let par = par();
+fn orthonormalise(
+    v: MatRef<'_, f64>,
+    mut z: MatMut<'_, f64>,
+    passes: usize,
+    rng: &mut Xorshift,
+) -> Mat<f64> {
+    let par = par_iter();
     let b = z.ncols();
     let n = z.nrows();
     let mut r = Mat::<f64>::zeros(b, b);
-    let project = |mut z: MatMut<'_, f64>, par: Par| {
+    let project = |mut z: MatMut<'_, f64>, passes: usize, par: Par| {
         if v.ncols() == 0 {
             return;
         }
-        for _ in 0..2 {
+        for _ in 0..passes {
             let mut h = Mat::<f64>::zeros(v.ncols(), z.ncols());
             matmul(h.as_mut(), Accum::Replace, v.transpose(), z.rb(), 1.0, par);
             matmul(z.rb_mut(), Accum::Add, v, h.as_ref(), -1.0, par);
         }
     };
-    project(z.rb_mut(), par);
+    project(z.rb_mut(), passes, par);
     for j in 0..b {
         let before = z.rb().col(j).norm_l2();
         for _ in 0..2 {
@@ -258,12 +352,14 @@ fn orthonormalise(v: MatRef<'_, f64>, mut z: MatMut<'_, f64>, rng: &mut Xorshift
             }
         }
         let mut norm = z.rb().col(j).norm_l2();
-        if !(norm > 1e-10 * before) || norm == 0.0 {
+        // NaN-safe: a NaN norm also counts as breakdown.
+        let healthy = norm > 1e-10 * before && norm > 0.0;
+        if !healthy {
             // Breakdown: the new direction is (numerically) in span(V, z_<j).
             r[(j, j)] = 0.0;
             for _ in 0..3 {
                 let mut fresh = Mat::from_fn(n, 1, |_, _| rng.next());
-                project(fresh.as_mut(), par);
+                project(fresh.as_mut(), 2, par);
                 for i in 0..j {
                     let d: f64 = z
                         .rb()
@@ -330,7 +426,18 @@ pub fn block_lanczos(
     count: usize,
     tuning: &EigenTuning,
 ) -> Result<LanczosOutcome, EigenError> {
-    let par = par();
+    block_lanczos_impl(op, n, count, tuning, false)
+}
+
+/// With `best_effort`, running out of restarts returns the current Ritz pairs.
+fn block_lanczos_impl(
+    op: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>,
+    n: usize,
+    count: usize,
+    tuning: &EigenTuning,
+    best_effort: bool,
+) -> Result<LanczosOutcome, EigenError> {
+    let par = par_iter();
     let count = count.min(n);
     let b = tuning.block_size.clamp(1, n.max(1));
     let max_basis = if tuning.max_basis > 0 {
@@ -350,7 +457,7 @@ pub fn block_lanczos(
     let mut cols = 0usize;
 
     let mut q = Mat::from_fn(n, b.min(n), |_, _| rng.next());
-    orthonormalise(v.get(.., ..0), q.as_mut(), &mut rng);
+    orthonormalise(v.get(.., ..0), q.as_mut(), 0, &mut rng);
     let mut applications = 0usize;
     let mut restarts = 0usize;
 
@@ -401,12 +508,22 @@ pub fn block_lanczos(
         // no longer holds and the basis simply grows to n (exact).
         let next_b = b.min(n - cols);
         let exact_relation = next_b == bq;
+        // Classical Gram–Schmidt, twice: the first pass reuses h = Vᵀ C q.
+        let mut wq = wq;
+        matmul(
+            wq.as_mut(),
+            Accum::Add,
+            v.get(.., ..cols),
+            h.as_ref(),
+            -1.0,
+            par,
+        );
         let mut z = if exact_relation {
             wq
         } else {
             wq.get(.., ..next_b.min(bq)).to_owned()
         };
-        let r = orthonormalise(v.get(.., ..cols), z.as_mut(), &mut rng);
+        let r = orthonormalise(v.get(.., ..cols), z.as_mut(), 1, &mut rng);
         // Residual of Ritz pair i: ‖R s_i[last block]‖.
         let converged = (0..count.min(cols))
             .filter(|&i| {
@@ -436,6 +553,16 @@ pub fn block_lanczos(
             // Thick restart from the leading Ritz vectors.
             restarts += 1;
             if restarts > tuning.max_restarts {
+                if best_effort {
+                    return Ok(ritz(
+                        v.get(.., ..cols),
+                        &theta,
+                        s.as_ref(),
+                        count,
+                        applications,
+                        restarts,
+                    ));
+                }
                 return Err(EigenError::NoConvergence {
                     detail: format!(
                         "{converged} of {count} modes converged after {restarts} restarts ({applications} operator applications)"
@@ -455,8 +582,7 @@ pub fn block_lanczos(
             cols = keep;
             // The pending block is orthogonal to the old basis, hence to the new
             // one; its coupling to the kept vectors, Vᵀ C q, is computed when it
-            // is applied. Reorthogonalise once more against rounding.
-            orthonormalise(v.get(.., ..cols), q.as_mut(), &mut rng);
+            // is applied.
         }
     }
 }
@@ -476,7 +602,7 @@ fn ritz(
         v,
         s.get(.., ..count),
         1.0,
-        par(),
+        par_iter(),
     );
     LanczosOutcome {
         values: theta[..count].to_vec(),
