@@ -314,10 +314,10 @@ fn modal_sum(
                 .iter()
                 .map(|&w| {
                     let mut h = Complex64::new(residual.get(o).copied().unwrap_or(0.0), 0.0);
-                    for r in 0..modes.len() {
-                        let w2 = modes.omega2[r].max(0.0);
+                    for (r, (&omega2, &zeta)) in modes.omega2.iter().zip(zetas).enumerate() {
+                        let w2 = omega2.max(0.0);
                         let wr = w2.sqrt();
-                        let d = Complex64::new(w2 - w * w, 2.0 * zetas[r] * wr * w);
+                        let d = Complex64::new(w2 - w * w, 2.0 * zeta * wr * w);
                         h += modes.shapes[(j, r)] * modes.shapes[(input, r)] / d;
                     }
                     h

@@ -120,6 +120,14 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
             .collect();
         let (lo, hi) = finite_range(&all).unwrap_or((0.0, 1.0));
         let y_range = padded_range(lo.min(0.0), hi, 0.05);
+        let y_range = (
+            if lo >= 0.0 {
+                y_range.0.max(0.0)
+            } else {
+                y_range.0
+            },
+            y_range.1,
+        );
         let mut chart = ChartBuilder::on(&top)
             .margin_left(10)
             .margin_right(25)

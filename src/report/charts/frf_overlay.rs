@@ -241,13 +241,36 @@ fn draw_series_lines(
     Ok(())
 }
 
-/// Dashed marks and resonance labels on a magnitude panel.
+const LABEL_PX: f64 = 12.0;
+
+/// Rows the resonance labels need above a plot spanning `plot_px` (left,
+/// right) pixels over the x range `x` (at most 3).
+fn resonance_label_rows(o: &FrfOverlay, x: (f64, f64), plot_px: (f64, f64)) -> usize {
+    let sizes: Vec<(f64, f64)> = o
+        .resonances
+        .iter()
+        .filter(|r| r.hz.is_finite() && r.hz >= x.0 && r.hz <= x.1)
+        .map(|r| {
+            let t = (r.hz - x.0) / (x.1 - x.0).max(f64::MIN_POSITIVE);
+            (
+                plot_px.0 + t * (plot_px.1 - plot_px.0),
+                text_width(&r.label, LABEL_PX),
+            )
+        })
+        .collect();
+    stagger(&sizes, 3.0, 3)
+        .into_iter()
+        .max()
+        .map_or(0, |r| r + 1)
+}
+
+/// Dashed marks and resonance labels (above the plot) on a magnitude panel.
 fn draw_marks(
     root: &Area,
     chart: &mut Chart2d,
     o: &FrfOverlay,
     y: (f64, f64),
-    labels: bool,
+    label_rows: usize,
     label_px: f64,
 ) -> Result<(), ChartError> {
     let x = chart.x_range();
@@ -274,20 +297,20 @@ fn draw_marks(
             GREY.filled(),
         ))?;
     }
-    if labels {
+    if label_rows > 0 {
         let sizes: Vec<(f64, f64)> = visible
             .iter()
             .zip(&pos)
             .map(|(r, p)| (p.0 as f64, text_width(&r.label, label_px)))
             .collect();
-        let rows = stagger(&sizes, 3.0, 3);
+        let rows = stagger(&sizes, 3.0, label_rows);
         for ((r, &(px, py)), row) in visible.iter().zip(&pos).zip(rows) {
             root.draw_text(
                 &r.label,
                 &font(label_px)
                     .color(&RGBColor(80, 80, 80))
-                    .pos(Pos::new(HPos::Center, VPos::Top)),
-                (px, py + 8 + row as i32 * (label_px as i32 + 2)),
+                    .pos(Pos::new(HPos::Center, VPos::Bottom)),
+                (px, py - 3 - row as i32 * (label_px as i32 + 2)),
             )?;
         }
     }
@@ -316,6 +339,7 @@ pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError
     let (d0, d1) = decades(ch, 8);
     let floor = d0 as f64;
     let buckets = 2 * (WIDTH as usize - 110);
+    let label_rows = resonance_label_rows(o, x, (88.0, WIDTH as f64 - 25.0));
     super::svg((WIDTH, height), |root| {
         draw_title(root, &title, o.subtitle.as_deref())?;
         let (_, rest) = root.split_vertically(th);
@@ -327,7 +351,7 @@ pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError
         let mut chart = ChartBuilder::on(&top)
             .margin_left(10)
             .margin_right(25)
-            .margin_top(6)
+            .margin_top(6 + label_rows as i32 * (LABEL_PX as i32 + 2))
             .x_label_area_size(30)
             .y_label_area_size(78)
             .build_cartesian_2d(x.0..x.1, y.0..y.1)?;
@@ -344,7 +368,7 @@ pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError
                 y_labels: (d1 - d0 + 1).clamp(2, 9) as usize,
             },
         )?;
-        draw_marks(root, &mut chart, o, y, true, 12.0)?;
+        draw_marks(root, &mut chart, o, y, label_rows, LABEL_PX)?;
         for (s, vals) in ch.values.iter().enumerate() {
             draw_series_lines(
                 &mut chart,
@@ -460,10 +484,10 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
                 .label_style(font(10.0))
                 .axis_desc_style(font(10.0))
                 .bold_line_style(LIGHT_GREY.stroke_width(1))
-                .light_line_style(WHITE.stroke_width(0))
+                .max_light_lines(0)
                 .axis_style(GREY.stroke_width(1))
                 .draw()?;
-            draw_marks(root, &mut chart, o, y, false, 10.0)?;
+            draw_marks(root, &mut chart, o, y, 0, 10.0)?;
             for (s, vals) in ch.values.iter().enumerate() {
                 let st = series_style(s);
                 let st = if s == 0 { st.color.stroke_width(1) } else { st };

@@ -415,7 +415,7 @@ pub(crate) fn draw_mesh(chart: &mut Chart2d, axes: &Axes) -> Result<(), ChartErr
         .label_style(font(12.0))
         .axis_desc_style(font(13.0))
         .bold_line_style(LIGHT_GREY.stroke_width(1))
-        .light_line_style(RGBColor(243, 243, 243).stroke_width(1))
+        .max_light_lines(0)
         .axis_style(GREY.stroke_width(1))
         .draw()?;
     Ok(())
@@ -581,7 +581,7 @@ pub(crate) fn draw_category_mesh(
         .label_style(font(12.0))
         .axis_desc_style(font(13.0))
         .bold_line_style(LIGHT_GREY.stroke_width(1))
-        .light_line_style(RGBColor(243, 243, 243).stroke_width(1))
+        .max_light_lines(0)
         .axis_style(GREY.stroke_width(1))
         .draw()?;
     Ok(())

@@ -1,0 +1,289 @@
+//! The report of a real update (the paper's cantilever, §4.1, simulated
+//! accelerance with noise): every file written, byte-identical on re-runs,
+//! a self-contained HTML page, and every SVG rendered to a non-trivial PNG with
+//! `rsvg-convert` (skipped with a note when it is missing; `scripts/render_png.sh`
+//! installs it).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use faer::c64;
+use frfup::model::ParameterValues;
+use frfup::parsers::deck::{parse, Deck};
+use frfup::report::{write_report, ReportInputs};
+use frfup::simulate::{simulate, Band, Campaign, Gaussian, NodeDirection, Sensors};
+use frfup::testdata::{FrfKind, MeasuredFrfs};
+use frfup::updating::{update, UpdateOptions, UpdateResult};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn out_dir(name: &str) -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join("report_render")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn cantilever_deck() -> Deck {
+    let text = std::fs::read_to_string(root().join("fixtures/paper/cantilever.deck")).unwrap();
+    parse(&text).unwrap()
+}
+
+/// Noise (fraction of each channel's RMS): small, as more makes the updater
+/// find spurious resonances near 0 Hz.
+const NOISE: f64 = 0.0005;
+
+/// Accelerance at z of `channels` for a force at the tip, element group 3
+/// twice as stiff as the deck says (the paper's Table 1 case), with NOISE.
+fn cantilever_test(deck: &Deck, channels: &[u32]) -> MeasuredFrfs {
+    let truth: ParameterValues = [("p3".to_string(), 1.0)].into_iter().collect();
+    let campaign = Campaign {
+        input: NodeDirection {
+            node: 16,
+            direction: 3,
+        },
+        band: Band {
+            start_hz: 0.0,
+            end_hz: 250.0,
+            count: 2501,
+        },
+        output: FrfKind::Accelerance,
+        sensors: Sensors::List(
+            channels
+                .iter()
+                .map(|&n| NodeDirection {
+                    node: n,
+                    direction: 3,
+                })
+                .collect(),
+        ),
+        noise: 0.0,
+        seed: 1,
+    };
+    let mut test = simulate(deck, &truth, &campaign).unwrap();
+    let mut g = Gaussian::new(7);
+    for ch in &mut test.channels {
+        let rms =
+            (ch.values.iter().map(|v| v.norm_sqr()).sum::<f64>() / ch.values.len() as f64).sqrt();
+        let sigma = NOISE * rms / std::f64::consts::SQRT_2;
+        for v in &mut ch.values {
+            *v += c64::new(sigma * g.next(), sigma * g.next());
+        }
+    }
+    test
+}
+
+fn run(channels: &[u32]) -> (Deck, MeasuredFrfs, UpdateResult) {
+    let deck = cantilever_deck();
+    let test = cantilever_test(&deck, channels);
+    let opts = UpdateOptions {
+        resonances: Some(6),
+        ..UpdateOptions::default()
+    };
+    let result = update(&deck, &test, &opts).unwrap();
+    (deck, test, result)
+}
+
+fn inputs() -> ReportInputs {
+    ReportInputs {
+        deck_path: "fixtures/paper/cantilever.deck".into(),
+        test_path: "simulated (p3 = +1, 0.05 % noise)".into(),
+        title: None,
+        command: Some("frfup update fixtures/paper/cantilever.deck test.uff --out report".into()),
+    }
+}
+
+fn read(dir: &Path, name: &str) -> Vec<u8> {
+    std::fs::read(dir.join(name)).unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+#[test]
+fn report_files_are_complete_and_deterministic() {
+    let (deck, test, result) = run(&(2..=16).collect::<Vec<_>>());
+    let dir = out_dir("cantilever");
+    // A channel chart of an earlier, larger run must not survive.
+    std::fs::create_dir_all(dir.join("frf")).unwrap();
+    std::fs::write(dir.join("frf/99-old.svg"), "<svg/>").unwrap();
+    let files = write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+    assert!(!dir.join("frf/99-old.svg").exists());
+    for name in [
+        "convergence.svg",
+        "frf-overlay.svg",
+        "sfdac.svg",
+        "frequencies.svg",
+        "mac.svg",
+        "report.html",
+        "iterations.csv",
+        "resonances.csv",
+        "updating-frequencies.csv",
+        "mac.csv",
+        "frf.csv",
+        "frf/01-2+z_16+z.svg",
+        "frf/15-16+z_16+z.svg",
+    ] {
+        assert!(
+            files.contains(&dir.join(name)),
+            "{name} not written: {files:?}"
+        );
+        assert!(dir.join(name).is_file(), "{name}");
+    }
+    let before: Vec<Vec<u8>> = files.iter().map(|p| std::fs::read(p).unwrap()).collect();
+    let again = write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+    assert_eq!(files, again);
+    for (p, b) in again.iter().zip(&before) {
+        assert_eq!(
+            &std::fs::read(p).unwrap(),
+            b,
+            "{} changed on a re-run",
+            p.display()
+        );
+    }
+    // No temporary files left behind.
+    for e in std::fs::read_dir(&dir).unwrap().flatten() {
+        assert!(!e.file_name().to_string_lossy().ends_with(".tmp"));
+    }
+
+    let html = String::from_utf8(read(&dir, "report.html")).unwrap();
+    for t in [
+        "<!DOCTYPE html>",
+        "What was measured",
+        "accelerance",
+        "16+z",
+        "The model",
+        "p3",
+        "Options",
+        "Convergence",
+        "SFDAC before and after",
+        "Resonance frequencies",
+        "MAC",
+        "Warnings",
+    ] {
+        assert!(html.contains(t), "report.html lacks {t}");
+    }
+    assert_eq!(html.matches("<svg").count(), 5 + 15, "every chart inline");
+    for bad in [
+        "<script",
+        "<link",
+        "src=\"http",
+        "href=\"http",
+        "@import",
+        "url(",
+    ] {
+        assert!(!html.contains(bad), "report.html not self-contained: {bad}");
+    }
+    let frf = String::from_utf8(read(&dir, "frf.csv")).unwrap();
+    assert!(frf.starts_with(
+        "channel,frequency_hz,measured_re[m/s^2/N],measured_im[m/s^2/N],initial_model_re"
+    ));
+    assert_eq!(frf.lines().count(), 1 + 15 * 2501);
+    let res = String::from_utf8(read(&dir, "resonances.csv")).unwrap();
+    assert!(res.starts_with("resonance,frequency_hz,damping_ratio"));
+    assert!(res.lines().count() >= 6);
+    eprintln!("report written to {}", dir.display());
+}
+
+#[test]
+fn single_channel_and_degenerate_results_still_report() {
+    // The driving point only: one channel, one measured DOF.
+    let deck = cantilever_deck();
+    let test = cantilever_test(&deck, &[16]);
+    match update(&deck, &test, &UpdateOptions::default()) {
+        Ok(result) => {
+            let dir = out_dir("single");
+            write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+            assert!(dir.join("frf/01-16+z_16+z.svg").is_file());
+        }
+        Err(e) => {
+            eprintln!("note: one channel cannot be updated ({e}); degenerate result below instead")
+        }
+    }
+    // A run cut to its initial model, with NaN correlation and no resonances.
+    let (deck, test, mut result) = run(&[4, 8, 12, 16]);
+    result.iterations.truncate(1);
+    result.final_iteration = 0;
+    result.iterations[0]
+        .sfdac
+        .values
+        .iter_mut()
+        .for_each(|v| *v = f64::NAN);
+    result.iterations[0].sfdac.mean = f64::NAN;
+    result.resonances.clear();
+    let dir = out_dir("degenerate");
+    write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+    // No iterations at all.
+    result.iterations.clear();
+    write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+    let html = String::from_utf8(read(&dir, "report.html")).unwrap();
+    assert!(html.contains("no iteration"));
+}
+
+fn rsvg() -> bool {
+    Command::new("rsvg-convert")
+        .arg("--version")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// (width, height) of a PNG from its IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+/// `width="…" height="…"` of the SVG root.
+fn svg_size(svg: &str) -> (u32, u32) {
+    let head = &svg[..svg.find('>').unwrap()];
+    let attr = |name: &str| -> u32 {
+        let i = head.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+        head[i..].split('"').next().unwrap().parse().unwrap()
+    };
+    (attr("width"), attr("height"))
+}
+
+#[test]
+fn every_chart_renders_to_a_png() {
+    if !rsvg() {
+        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+        return;
+    }
+    let (deck, test, result) = run(&(2..=16).collect::<Vec<_>>());
+    let dir = out_dir("png");
+    let files = write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
+    let svgs: Vec<&PathBuf> = files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    assert_eq!(svgs.len(), 5 + 15);
+    for svg in svgs {
+        let png = svg.with_extension("png");
+        let out = Command::new("rsvg-convert")
+            .arg("--background-color=white")
+            .arg("-o")
+            .arg(&png)
+            .arg(svg)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            svg.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let bytes = std::fs::read(&png).unwrap();
+        assert!(
+            bytes.len() > 8_000,
+            "{}: only {} bytes",
+            png.display(),
+            bytes.len()
+        );
+        let text = std::fs::read_to_string(svg).unwrap();
+        assert_eq!(png_size(&bytes), svg_size(&text), "{}", png.display());
+    }
+    eprintln!("PNGs in {}", dir.display());
+}
