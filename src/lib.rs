@@ -10,6 +10,7 @@
 
 pub mod fsio;
 pub mod model;
+pub mod report;
 pub mod simulate;
 pub mod solvers;
 pub mod testdata;
