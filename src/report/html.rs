@@ -566,22 +566,27 @@ fn group(w: &UpdateWarning) -> &'static str {
         | UpdateWarning::OtherReferences { .. }
         | UpdateWarning::DuplicateChannel { .. } => "Channels skipped",
         UpdateWarning::SkippedFrequency(_)
+        | UpdateWarning::SuspensionModes { .. }
         | UpdateWarning::NearFeResonance { .. }
         | UpdateWarning::UnpairedResonance { .. } => "Frequencies and pairing",
         UpdateWarning::DroppedModes { .. } | UpdateWarning::FewerModes { .. } => "SEREP basis",
         UpdateWarning::Diverged { .. }
         | UpdateWarning::ParameterExploded { .. }
         | UpdateWarning::NotConverged { .. } => "Convergence",
+        // Kinds added later still show up.
+        #[allow(unreachable_patterns)]
+        _ => "Other",
     }
 }
 
 fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData) {
-    const GROUPS: [&str; 5] = [
+    const GROUPS: [&str; 6] = [
         "Convergence",
         "Ill-conditioning and indistinguishable parameters",
         "Channels skipped",
         "Frequencies and pairing",
         "SEREP basis",
+        "Other",
     ];
     if result.warnings.is_empty() && data.notes.is_empty() {
         s.push_str("<p>None.</p>\n");

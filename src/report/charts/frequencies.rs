@@ -10,6 +10,8 @@ use super::{
     hline, legend_height, padded_range, tick_label, title_height, ChartError, LegendEntry, Marker,
     NamedSeries, Swatch, GREY,
 };
+use super::{font, DARK};
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// One test resonance and the frequency of its partner mode in each model.
 #[derive(Clone, Debug, PartialEq)]
@@ -119,6 +121,13 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
             })
             .collect();
         let (lo, hi) = finite_range(&all).unwrap_or((0.0, 1.0));
+        // A far-off partner (a poor pairing) would squash the others: clip.
+        let ref_hi = finite_range(c.modes.iter().map(|r| &r.reference_hz)).map_or(hi, |r| r.1);
+        let hi = if ref_hi > 0.0 {
+            hi.min(1.5 * ref_hi)
+        } else {
+            hi
+        };
         let y_range = padded_range(lo.min(0.0), hi, 0.05);
         let y_range = (
             if lo >= 0.0 {
@@ -158,7 +167,18 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
                 .enumerate()
                 .filter_map(|(i, r)| Some((i as f64 + dx, r.models_hz.get(m).copied().flatten()?)))
                 .collect();
-            draw_markers(&mut chart, model_marker(m), &pts, 5, model_color(m))?;
+            let inside: Vec<(f64, f64)> = pts.iter().map(|&(x, f)| (x, f.min(y_range.1))).collect();
+            draw_markers(&mut chart, model_marker(m), &inside, 5, model_color(m))?;
+            for &(x, f) in pts.iter().filter(|p| p.1 > y_range.1) {
+                let (px, py) = chart.backend_coord(&(x, y_range.1));
+                root.draw_text(
+                    &format!("{} Hz ↑", fmt_fixed(f, 1)),
+                    &font(10.0)
+                        .color(&model_color(m))
+                        .pos(Pos::new(HPos::Center, VPos::Top)),
+                    (px, py + 8 + 12 * m as i32),
+                )?;
+            }
         }
         draw_category_labels(root, &chart, &mode_labels, y_range.0, &top_layout)?;
         let (_, py) = chart.plotting_area().get_pixel_range();
@@ -182,7 +202,8 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
             .chain([0.0])
             .collect();
         let (lo, hi) = finite_range(&devs).unwrap_or((-1.0, 1.0));
-        let (lo, hi) = (lo.max(-200.0), hi.min(200.0));
+        let limit = clip_limit(&devs);
+        let (lo, hi) = (lo.max(-limit), hi.min(limit));
         let y_range = padded_range(lo, hi.max(lo + 0.5), 0.08);
         let mut chart = ChartBuilder::on(&bottom)
             .margin_left(10)
@@ -201,6 +222,27 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
         hline(&mut chart, 0.0, x_range, GREY.stroke_width(1))?;
         let colors: Vec<RGBColor> = (0..series.len()).map(model_color).collect();
         draw_grouped_bars(&mut chart, &series, &colors, y_range)?;
+        // Value of each clipped bar, at its end.
+        let k = series.len().max(1) as f64;
+        for (m, ser) in series.iter().enumerate() {
+            for (i, &v) in ser.values.iter().enumerate() {
+                if v.is_finite() && (v > y_range.1 || v < y_range.0) {
+                    let x = i as f64 - 0.4 + (m as f64 + 0.5) * 0.8 / k;
+                    let edge = if v > 0.0 { y_range.1 } else { y_range.0 };
+                    let (px, py) = chart.backend_coord(&(x, edge));
+                    let (vpos, dy) = if v > 0.0 {
+                        (VPos::Top, 4 + 12 * m as i32)
+                    } else {
+                        (VPos::Bottom, -4 - 12 * m as i32)
+                    };
+                    root.draw_text(
+                        &format!("{} % (clipped)", clipped_value(v)),
+                        &font(10.0).color(&DARK).pos(Pos::new(HPos::Center, vpos)),
+                        (px, py + dy),
+                    )?;
+                }
+            }
+        }
         draw_category_labels(root, &chart, &hz_labels, y_range.0, &bottom_layout)?;
         draw_x_desc(
             root,
@@ -210,6 +252,35 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
         )?;
         Ok(())
     })
+}
+
+/// Deviation axis limit (%): the largest |value| unless it is an outlier
+/// (beyond 4× the median |value| and 20 %), which is then clipped.
+fn clip_limit(values: &[f64]) -> f64 {
+    let mut a: Vec<f64> = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .map(|v| v.abs())
+        .collect();
+    a.sort_by(f64::total_cmp);
+    let Some(&max) = a.last() else {
+        return 1.0;
+    };
+    let median = a[a.len() / 2];
+    let limit = (4.0 * median).max(20.0);
+    if max > limit {
+        limit
+    } else {
+        max.max(1e-9)
+    }
+}
+
+fn clipped_value(v: f64) -> String {
+    if v.abs() >= 1e4 {
+        format!("{v:+.1e}")
+    } else {
+        format!("{v:+.0}")
+    }
 }
 
 #[cfg(test)]
@@ -254,6 +325,20 @@ mod tests {
         }
         assert_eq!(a, render(&c).unwrap());
         assert!((c.mean_abs_deviation_pct(1).unwrap() - 1.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn outliers_are_clipped_and_labelled() {
+        let mut c = sample();
+        c.modes[0].reference_hz = 0.1;
+        c.modes[0].models_hz = vec![Some(645.0), Some(645.0)];
+        let a = render(&c).unwrap();
+        assert_svg(&a);
+        assert!(a.contains("+6.4e5 % (clipped)"), "clipped bar label");
+        assert!(a.contains("645.0 Hz ↑"));
+        assert_eq!(clip_limit(&[1.0, -2.0, 3.0]), 3.0);
+        assert_eq!(clip_limit(&[1.0, 2.0, 5000.0]), 20.0);
+        assert_eq!(clip_limit(&[f64::NAN]), 1.0);
     }
 
     #[test]
