@@ -4,13 +4,13 @@
 
 use plotters::prelude::*;
 
+use super::font;
 use super::{
     category_layout, comparison_color, draw_category_labels, draw_category_mesh, draw_grouped_bars,
     draw_legend, draw_markers, draw_no_data, draw_title, draw_x_desc, finite_range, fmt_fixed,
     hline, legend_height, padded_range, tick_label, title_height, ChartError, LegendEntry, Marker,
     NamedSeries, Swatch, GREY,
 };
-use super::{font, DARK};
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// One test resonance and the frequency of its partner mode in each model.
@@ -230,14 +230,18 @@ pub fn render(c: &FrequencyChart) -> Result<String, ChartError> {
                     let x = i as f64 - 0.4 + (m as f64 + 0.5) * 0.8 / k;
                     let edge = if v > 0.0 { y_range.1 } else { y_range.0 };
                     let (px, py) = chart.backend_coord(&(x, edge));
-                    let (vpos, dy) = if v > 0.0 {
-                        (VPos::Top, 4 + 12 * m as i32)
+                    // Written along the bar, in white, from its clipped end.
+                    let (hpos, dy) = if v > 0.0 {
+                        (HPos::Right, 5)
                     } else {
-                        (VPos::Bottom, -4 - 12 * m as i32)
+                        (HPos::Left, -5)
                     };
                     root.draw_text(
                         &format!("{} % (clipped)", clipped_value(v)),
-                        &font(10.0).color(&DARK).pos(Pos::new(HPos::Center, vpos)),
+                        &font(10.0)
+                            .color(&WHITE)
+                            .transform(FontTransform::Rotate270)
+                            .pos(Pos::new(hpos, VPos::Center)),
                         (px, py + dy),
                     )?;
                 }
