@@ -1,77 +1,106 @@
 #!/usr/bin/env bash
-# Benchmark of the UFF reader: generates a campaign (256 channels x 6400 lines,
-# complex single, ASCII ~40 MB and its 58b twin) with our writer, times a full
-# read with our parser (release, best of 5 runs, page cache warm) and with
-# pyuff (one run each, bounded by a timeout), prints MB/s, the ratio and peak
-# RSS (/usr/bin/time -v, else VmHWM).
+# Benchmark of the UFF reader, whole process, side by side with pyuff.
+#
+# Generates a campaign (default 256 channels x 6400 lines, complex single:
+# ASCII ~43 MB and its 58b twin ~13 MB) with our writer, then for each file:
+#  - ours: `frfup info FILE` (release; the streaming reader), best of RUNS
+#    runs (page cache warm): MB/s on wall time and on CPU time (user+sys, from
+#    wait4 rusage), and peak RSS (ru_maxrss) as a multiple of the decoded
+#    bytes (16 per complex point);
+#  - pyuff: `pyuff.UFF(path).read_sets()`, one run, bounded by PYUFF_TIMEOUT
+#    seconds (default 300), wall and CPU;
+#  - the ratios ours/pyuff.
+# Wall times are noisy when other builds share the cores: compare CPU MB/s.
 #
 # Usage: scripts/bench_uff.sh [channels] [lines]
+# Env: RUNS (default 7), PYUFF_TIMEOUT (default 300), BENCH_UFF_DIR,
+#      BENCH_UFF_CMD=example to time parsers/examples/read_uff instead.
 set -euo pipefail
 channels=${1:-256}
 lines=${2:-6400}
+runs=${RUNS:-7}
 root=$(cd "$(dirname "$0")/.." && pwd)
 dir=${BENCH_UFF_DIR:-$root/target/bench_uff}
 mkdir -p "$dir"
 cd "$root"
 cargo build --release -p frfup-parsers --example gen_campaign --example read_uff --quiet
+if [[ ${BENCH_UFF_CMD:-frfup} == frfup ]]; then
+    cargo build --release --bin frfup --quiet
+    cmd=("$root/target/release/frfup" info)
+else
+    cmd=("$root/target/release/examples/read_uff")
+fi
 ascii=$dir/campaign_${channels}x${lines}_ascii.uff
 binary=$dir/campaign_${channels}x${lines}_58b.uff
 if [[ ! -s $ascii || ! -s $binary ]]; then
     ./target/release/examples/gen_campaign "$ascii" "$binary" "$channels" "$lines"
 fi
-python3 -c "import pyuff" 2>/dev/null || python3 -m pip install --quiet pyuff
+python3 -c "import pyuff" 2>/dev/null || python3 -m pip install --quiet pyuff || true
 
-peak_rss_kb() { # command... -> prints "max_rss_kb" on fd 3
-    if [[ -x /usr/bin/time ]]; then
-        /usr/bin/time -v "$@" 2> "$dir/time.txt" >/dev/null
-        awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$dir/time.txt"
-    else
-        "$@" >/dev/null & pid=$!
-        hwm=0
-        while kill -0 "$pid" 2>/dev/null; do
-            v=$(awk '/VmHWM/ {print $2}' "/proc/$pid/status" 2>/dev/null || echo 0)
-            (( v > hwm )) && hwm=$v
-            sleep 0.005
-        done
-        wait "$pid"
-        echo "$hwm"
-    fi
-}
+echo "cores: $(nproc); load: $(cut -d' ' -f1-3 /proc/loadavg); command: ${cmd[*]} FILE"
+python3 - "$runs" "${PYUFF_TIMEOUT:-300}" "$ascii" "$binary" "$root/target/release/examples/read_uff" "${cmd[@]}" <<'PY'
+import os, re, subprocess, sys, time
 
-ours() { # file -> best MB/s (parse only) and read+parse
-    local best=0 best_total=0 line
-    for _ in 1 2 3 4 5; do
-        line=$(./target/release/examples/read_uff "$1")
-        local mbs total
-        mbs=$(sed -E 's/.*= ([0-9]+) MB\/s; read\+parse.*/\1/' <<<"$line")
-        total=$(sed -E 's/.*read\+parse [0-9.]+ s = ([0-9]+) MB\/s.*/\1/' <<<"$line")
-        (( mbs > best )) && best=$mbs
-        (( total > best_total )) && best_total=$total
-    done
-    echo "$best $best_total"
-}
+runs, pyuff_timeout = int(sys.argv[1]), float(sys.argv[2])
+files = {"ascii": sys.argv[3], "58b": sys.argv[4]}
+reader = sys.argv[5]  # prints the decoded bytes
+cmd = sys.argv[6:]
 
-pyuff_mbs() { # file -> MB/s of pyuff.UFF(path).read_sets()
-    timeout 900 python3 - "$1" <<'PY' || echo "timeout"
-import os, sys, time
-import pyuff
-p = sys.argv[1]
-t = time.perf_counter()
-sets = pyuff.UFF(p).read_sets()
-dt = time.perf_counter() - t
-n = len(sets) if isinstance(sets, list) else 1
-print(f"{os.path.getsize(p) / 1e6 / dt:.1f} {n}")
+def measured(argv, timeout=None):
+    t = time.perf_counter()
+    pid = os.fork()
+    if pid == 0:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 1)
+        os.dup2(devnull, 2)
+        try:
+            os.execvp(argv[0], argv)
+        finally:
+            os._exit(127)
+    deadline = None if timeout is None else t + timeout
+    while True:
+        wpid, status, ru = os.wait4(pid, os.WNOHANG)
+        if wpid == pid:
+            break
+        if deadline is not None and time.perf_counter() > deadline:
+            os.kill(pid, 9)
+            os.wait4(pid, 0)
+            return None
+        time.sleep(0.0005)
+    wall = time.perf_counter() - t
+    return wall, ru.ru_utime + ru.ru_stime, ru.ru_maxrss, os.waitstatus_to_exitcode(status)
+
+def decoded_bytes(path):
+    out = subprocess.run([reader, path], capture_output=True, text=True).stdout
+    m = re.search(r"decoded ([0-9.]+) MB", out)
+    return float(m.group(1)) * 1e6 if m else float("nan")
+
+PYUFF = "import sys, pyuff; pyuff.UFF(sys.argv[1]).read_sets()"
+rows = []
+for kind, path in files.items():
+    mb = os.path.getsize(path) / 1e6
+    decoded = decoded_bytes(path)
+    best_wall = best_cpu = float("inf")
+    rss = 0
+    for _ in range(runs):
+        r = measured(cmd + [path])
+        if r is None or r[3] != 0:
+            sys.exit(f"{kind}: {' '.join(cmd)} {path} failed")
+        best_wall, best_cpu = min(best_wall, r[0]), min(best_cpu, r[1])
+        rss = max(rss, r[2])
+    py = measured([sys.executable, "-c", PYUFF, path], timeout=pyuff_timeout)
+    if py is None or py[3] != 0:
+        py_wall = py_cpu = float("nan")
+        py_note = f"(timeout {pyuff_timeout:.0f} s or failed)"
+    else:
+        py_wall, py_cpu, py_note = py[0], py[1], ""
+    ours_w, ours_c = mb / best_wall, mb / best_cpu
+    py_w, py_c = mb / py_wall, mb / py_cpu
+    print(
+        f"{kind:5s} {mb:6.1f} MB: ours {ours_w:7.0f} MB/s wall, {ours_c:7.0f} MB/s CPU "
+        f"(best of {runs}: {best_wall * 1e3:.1f} ms wall, {best_cpu * 1e3:.1f} ms CPU); "
+        f"pyuff {py_w:5.1f} MB/s wall, {py_c:5.1f} MB/s CPU {py_note}; "
+        f"ratio {ours_w / py_w:5.0f}x wall, {ours_c / py_c:5.0f}x CPU; "
+        f"peak RSS {rss / 1024:.1f} MB = {rss * 1024 / decoded:.2f}x decoded ({decoded / 1e6:.1f} MB)"
+    )
 PY
-}
-
-echo "cores: $(nproc); file sizes: ascii $(stat -c %s "$ascii") B, 58b $(stat -c %s "$binary") B"
-./target/release/examples/read_uff "$ascii" "$binary"
-for kind in ascii 58b; do
-    f=$ascii; [[ $kind == 58b ]] && f=$binary
-    read -r mbs total <<<"$(ours "$f")"
-    rss=$(peak_rss_kb ./target/release/examples/read_uff "$f")
-    read -r py n <<<"$(pyuff_mbs "$f")"
-    ratio=$(python3 -c "print(f'{$mbs / $py:.0f}')" 2>/dev/null || echo "?")
-    size_mb=$(python3 -c "print(f'{$(stat -c %s "$f") / 1e6:.1f}')")
-    echo "$kind: ours ${mbs} MB/s parse (${total} MB/s read+parse), pyuff ${py} MB/s (${n} sets), ratio ${ratio}x, peak RSS ${rss} kB for a ${size_mb} MB file"
-done

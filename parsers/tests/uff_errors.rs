@@ -32,6 +32,14 @@ fn read(bytes: &[u8]) -> Result<uff::UffFile, UffError> {
         for threads in [1, 2] {
             let streamed = uff::parse_reader_with(bytes, chunk, threads);
             assert_eq!(streamed, whole, "chunk {chunk}, threads {threads}");
+            // One byte per read: the end of input is only seen at the end.
+            let trickle =
+                std::io::Read::chain(&bytes[..bytes.len() / 2], &bytes[bytes.len() / 2..]);
+            let streamed = uff::parse_reader_with(trickle, chunk, threads);
+            assert_eq!(
+                streamed, whole,
+                "chained reader, chunk {chunk}, threads {threads}"
+            );
         }
     }
     whole

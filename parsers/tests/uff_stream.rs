@@ -22,12 +22,35 @@ fn fixtures() -> Vec<PathBuf> {
     out
 }
 
+/// A reader that returns at most `step` bytes per call, like a pipe: the end
+/// of the file is only seen by a read returning 0.
+struct Trickle<'a> {
+    bytes: &'a [u8],
+    step: usize,
+}
+
+impl std::io::Read for Trickle<'_> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = buf.len().min(self.step).min(self.bytes.len());
+        buf[..n].copy_from_slice(&self.bytes[..n]);
+        self.bytes = &self.bytes[n..];
+        Ok(n)
+    }
+}
+
 fn same(bytes: &[u8], chunks: &[usize], what: &str) {
     let whole = uff::parse(bytes);
     for &chunk in chunks {
         for threads in [1, 2, 3] {
             let streamed = uff::parse_reader_with(bytes, chunk, threads);
             assert_eq!(streamed, whole, "{what}: chunk {chunk}, threads {threads}");
+        }
+        for step in [1, 7] {
+            let streamed = uff::parse_reader_with(Trickle { bytes, step }, chunk, 2);
+            assert_eq!(
+                streamed, whole,
+                "{what}: chunk {chunk}, reads of {step} bytes"
+            );
         }
     }
     assert_eq!(uff::parse_reader(bytes), whole, "{what}: parse_reader");
@@ -39,7 +62,7 @@ fn every_fixture_streams_the_same() {
         let bytes = std::fs::read(&path).expect("fixture");
         let what = path.display().to_string();
         let small: &[usize] = if bytes.len() < 20_000 {
-            &[1, 3, 7, 64, 1000, 1 << 20]
+            &[1, 3, 7, 12, 64, 1000, 1 << 20]
         } else {
             &[997, 4096, 65536, 1 << 20]
         };
@@ -159,12 +182,40 @@ fn written_files_stream_the_same() {
         };
         assert_eq!(f.len(), 300_000);
         same(&bytes, &[1 << 16, 1 << 20], "big");
-        // A bad value late in the big dataset: same line and offset either way.
-        let at = bytes.len() - 200;
-        let mut bad = bytes.clone();
-        bad[at] = b'x';
-        let e = uff::parse(&bad).expect_err("bad value");
-        assert!(e.line.is_some_and(|l| l > 1000), "{e}");
-        same(&bad, &[1 << 20], "big with a bad value");
+        // A bad value in either half of the big dataset (read by two threads):
+        // the line-by-line error, the same either way.
+        for at in [bytes.len() / 3, bytes.len() - 200] {
+            let mut bad = bytes.clone();
+            let digit = at
+                + bad[at..]
+                    .iter()
+                    .position(u8::is_ascii_digit)
+                    .expect("digit");
+            bad[digit] = b'x';
+            let e = uff::parse(&bad).expect_err("bad value");
+            let line = 1 + bad[..digit].iter().filter(|&&b| b == b'\n').count();
+            assert_eq!(e.line, Some(line), "{e}");
+            let line_start = bad[..digit]
+                .iter()
+                .rposition(|&b| b == b'\n')
+                .map_or(0, |p| p + 1);
+            assert_eq!(e.byte_offset, line_start, "{e}");
+            same(&bad, &[1 << 20], "big with a bad value");
+        }
+        // Zero padding after the declared points: the note of the line-by-line read.
+        let mut padded = bytes.clone();
+        let close = padded.len() - "    -1\n".len();
+        padded.splice(close..close, b"  0.00000E+00\n".iter().copied());
+        same(&padded, &[1 << 20], "big with padding");
     }
+}
+
+/// Fuzz finding: text without any dataset, longer than a chunk; the error
+/// offset is 0 (the file start), not the start of the last buffer.
+#[test]
+fn no_dataset_error_offset() {
+    let bytes = "not a UFF line\n".repeat(100).into_bytes();
+    let e = uff::parse(&bytes).expect_err("no dataset");
+    assert_eq!(e.byte_offset, 0);
+    same(&bytes, &[1, 16, 100], "stray text only");
 }

@@ -461,6 +461,11 @@ fn ascii_data(
     let room = (cx.block.text.end - lines.pos.min(cx.block.text.end)) / 2 / r7.values_per_point();
     let mut sink = Sink::new(r7, r7.points.min(room + 1));
     let widths = r7.ascii_widths();
+    if let Some(values) = split_values(lines.rest(), widths, expected) {
+        sink.extend(&values[0]);
+        sink.extend(&values[1]);
+        return Ok(sink);
+    }
     let mut buf: Vec<f64> = Vec::with_capacity(8);
     let mut count = 0usize;
     let mut padded: Option<(usize, usize)> = None;
@@ -523,6 +528,50 @@ fn ascii_data(
         ));
     }
     Ok(sink)
+}
+
+/// Data records of at least this many bytes are read by two threads.
+const SPLIT_MIN_BYTES: usize = 4 << 20;
+
+/// The values of data lines, or `None` at the first line that is not all
+/// finite numbers.
+fn line_values(region: &[u8], widths: &[usize]) -> Option<Vec<f64>> {
+    let mut out = Vec::with_capacity(region.len() / 12 + 8);
+    for line in Lines::new(region, 0..region.len(), 1) {
+        let start = out.len();
+        if !text::reals_fixed(line.text, widths, &mut out) {
+            out.truncate(start);
+            text::reals_tokens(line.text, &mut out).ok()?;
+        }
+    }
+    if text::first_non_finite(&out).is_some() {
+        return None;
+    }
+    Some(out)
+}
+
+/// A big data record read in two halves (cut at a line break) on two
+/// threads. `None` when not worth it, or when the halves do not hold exactly
+/// `expected` finite numbers: the caller then reads line by line, which
+/// gives the exact error (line number) or padding note.
+fn split_values(region: &[u8], widths: &[usize], expected: usize) -> Option<[Vec<f64>; 2]> {
+    let parallel = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if region.len() < SPLIT_MIN_BYTES || parallel < 2 {
+        return None;
+    }
+    let mid = region.len() / 2;
+    let cut = memchr::memchr(b'\n', &region[mid..]).map_or(region.len(), |k| mid + k + 1);
+    let (first, second) = region.split_at(cut);
+    let (a, b) = std::thread::scope(|scope| {
+        let other = scope.spawn(|| line_values(second, widths));
+        let a = line_values(first, widths);
+        match other.join() {
+            Ok(b) => (a, b),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
+    });
+    let (a, b) = (a?, b?);
+    (a.len() + b.len() == expected).then_some([a, b])
 }
 
 /// One stored binary value: size and byte order.

@@ -112,6 +112,8 @@ pub(crate) struct Splitter {
     number: usize,
     /// (first line, count) of text outside datasets, not yet reported.
     stray: Option<(usize, usize)>,
+    /// File offset of the buffer's first byte (moved by `consume`).
+    base: usize,
     /// Blocks returned so far.
     blocks: usize,
     finished: bool,
@@ -124,6 +126,7 @@ impl Default for Splitter {
             pos: 0,
             number: 1,
             stray: None,
+            base: 0,
             blocks: 0,
             finished: false,
         }
@@ -138,11 +141,14 @@ impl Splitter {
 
     /// The caller dropped the first `n` (<= `pos`) bytes of its buffer.
     pub fn consume(&mut self, n: usize) {
-        self.pos -= n.min(self.pos);
+        let n = n.min(self.pos);
+        self.pos -= n;
+        self.base += n;
     }
 
     /// The next block of `bytes[pos..]`; `eof` tells whether `bytes` ends
-    /// where the file does.
+    /// where the file does. Block positions are relative to `bytes`; error
+    /// offsets are file offsets.
     pub fn next(&mut self, bytes: &[u8], eof: bool) -> Result<Step, UffError> {
         if self.finished {
             return Ok(Step::End);
@@ -178,8 +184,9 @@ impl Splitter {
                     return Ok(Step::NeedMore);
                 }
                 Ok(Attempt::EndOfFile) => return self.finish(),
-                Err(e) => {
+                Err(mut e) => {
                     self.finished = true;
+                    e.byte_offset += self.base;
                     return Err(e);
                 }
             }

@@ -107,7 +107,7 @@ fn produce<R: Read>(
                 Ok(Step::NeedMore) => break eof, // never at eof; stop rather than spin
                 Ok(Step::End) => break true,
                 Err(e) => {
-                    failure = Some(rebase(e, base));
+                    failure = Some(e); // already a file offset
                     break true;
                 }
             }

@@ -38,6 +38,11 @@ impl<'a> Lines<'a> {
         Self::partial(bytes, range, number, true)
     }
 
+    /// The bytes not yet returned.
+    pub fn rest(&self) -> &'a [u8] {
+        &self.bytes[self.pos..self.end]
+    }
+
     /// Lines of a buffer that may end before the file does (`eof` false).
     pub fn partial(
         bytes: &'a [u8],

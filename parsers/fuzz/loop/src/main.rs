@@ -1,5 +1,6 @@
-//! Stable-Rust fuzz loop for `uff::parse`: random mutations (xorshift) of the
-//! real fixtures and of a file we write, for a given number of seconds.
+//! Stable-Rust fuzz loop for `uff::parse` and `uff::parse_reader` (which must
+//! agree): random mutations (xorshift) of the real fixtures and of a file we
+//! write, for a given number of seconds.
 //! A panic saves the input under `artifacts/` and fails the run.
 //!
 //! `uff-fuzz-loop SECONDS SEED_FILE...`
@@ -103,7 +104,16 @@ fn mutate(rng: &mut XorShift, seeds: &[Vec<u8>], input: &mut Vec<u8>) {
 }
 
 fn exercise(data: &[u8]) {
-    if let Ok(file) = uff::parse(data) {
+    let whole = uff::parse(data);
+    // The streaming reader must agree, wherever the chunks are cut.
+    let chunk = 1 + data.len() % 97;
+    for (chunk, threads) in [(chunk, 1), (chunk + 13, 2), (1 << 20, 2)] {
+        let streamed = uff::parse_reader_with(data, chunk, threads);
+        if streamed != whole {
+            panic!("parse_reader (chunk {chunk}, {threads} threads) differs from parse: {streamed:?} vs {whole:?}");
+        }
+    }
+    if let Ok(file) = whole {
         let functions: Vec<_> = file
             .datasets
             .iter()
@@ -113,7 +123,8 @@ fn exercise(data: &[u8]) {
             })
             .collect();
         let mut out = Vec::new();
-        if uff::write_functions(&mut out, &functions).is_ok() {
+        // No functions: nothing is written, and an empty file is no UFF file.
+        if !functions.is_empty() && uff::write_functions(&mut out, &functions).is_ok() {
             if let Err(e) = uff::parse(&out) {
                 panic!("our own output does not read back: {e}");
             }
