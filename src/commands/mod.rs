@@ -47,16 +47,22 @@ impl std::fmt::Display for CommandError {
 
 impl std::error::Error for CommandError {}
 
-/// Read a whole UFF file (with a progress bar on a terminal) and parse it;
-/// errors name the file.
+/// Read and parse a UFF file, streaming (bounded memory, parsing on all
+/// cores while reading; a spinner on a terminal for large files); errors
+/// name the file.
 pub fn read_uff(
     path: &std::path::Path,
     progress: progress::Progress,
 ) -> Result<frfup_parsers::uff::UffFile, CommandError> {
-    let bytes = progress::read_with_progress(path, progress)
-        .map_err(|e| CommandError::input(format!("{}: cannot read: {e}", path.display())))?;
-    let spinner = progress.spinner(format!("parsing {}", path.display()), bytes.len());
-    let parsed = frfup_parsers::uff::parse(&bytes);
+    let cannot_read =
+        |e: std::io::Error| CommandError::input(format!("{}: cannot read: {e}", path.display()));
+    let file = std::fs::File::open(path).map_err(cannot_read)?;
+    let len = file.metadata().map_or(0, |m| m.len());
+    let spinner = progress.spinner(
+        format!("reading {}", path.display()),
+        usize::try_from(len).unwrap_or(usize::MAX),
+    );
+    let parsed = frfup_parsers::uff::parse_reader(file);
     spinner.finish();
     parsed.map_err(|e| CommandError::input(format!("{}: {e}", path.display())))
 }
