@@ -8,6 +8,9 @@
 //!
 //! The `frfup` binary is a thin layer over this library.
 
+// Checks are written `!(x >= limit)` on purpose: a NaN must fail them.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod fsio;
 pub mod model;
 pub mod report;

@@ -193,36 +193,35 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
             ));
         }
     }
-    let mut o = UpdateOptions::default();
-    o.modes = opt_usize(t, "modes", &what)?;
-    o.resonances = opt_usize(t, "resonances", &what)?;
-    if let Some(x) = opt_f64(t, "offset", &what)? {
-        o.offset = x;
-    }
-    if let Some(v) = t.get("freqs") {
-        o.frequencies_hz = Some(match v {
-            toml::Value::Array(a) => a
-                .iter()
+    let defaults = UpdateOptions::default();
+    let frequencies_hz = match t.get("freqs") {
+        None => None,
+        Some(toml::Value::Array(a)) => Some(
+            a.iter()
                 .map(|x| match x {
                     toml::Value::Float(f) => Ok(*f),
                     toml::Value::Integer(i) => Ok(*i as f64),
                     other => Err(format!("{what}: `freqs` must hold numbers, found {other}")),
                 })
                 .collect::<Result<Vec<f64>, String>>()?,
-            toml::Value::String(s) => parse_freqs(s).map_err(|e| format!("{what}: {e}"))?,
-            other => Err(format!(
+        ),
+        Some(toml::Value::String(s)) => Some(parse_freqs(s).map_err(|e| format!("{what}: {e}"))?),
+        Some(other) => {
+            return Err(format!(
                 "{what}: `freqs` must be a list of numbers, found {other}"
-            ))?,
-        });
-    }
-    if let Some(v) = t.get("with-frequencies") {
-        o.with_frequencies = v
+            ))
+        }
+    };
+    let with_frequencies = match t.get("with-frequencies") {
+        None => defaults.with_frequencies,
+        Some(v) => v
             .as_bool()
-            .ok_or_else(|| format!("{what}: `with-frequencies` must be true or false"))?;
-    }
+            .ok_or_else(|| format!("{what}: `with-frequencies` must be true or false"))?,
+    };
     let perturbation = opt_f64(t, "perturbation", &what)?;
-    if let Some(v) = t.get("inverse") {
-        o.inverse = match v.as_str() {
+    let inverse = match t.get("inverse") {
+        None => defaults.inverse,
+        Some(v) => match v.as_str() {
             Some("svd") => InverseMethod::Svd,
             Some("perturb") => InverseMethod::Perturb {
                 relative: perturbation.unwrap_or(crate::updating::DEFAULT_PERTURBATION),
@@ -232,17 +231,20 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
                     "{what}: `inverse` must be \"svd\" or \"perturb\", found {v}"
                 ))
             }
-        };
-    }
-    if let Some(x) = opt_f64(t, "svd-eps", &what)? {
-        o.svd_eps = x;
-    }
-    if let Some(x) = opt_f64(t, "tol", &what)? {
-        o.tol = x;
-    }
-    if let Some(x) = opt_usize(t, "max-iter", &what)? {
-        o.max_iter = x;
-    }
+        },
+    };
+    let o = UpdateOptions {
+        modes: opt_usize(t, "modes", &what)?,
+        resonances: opt_usize(t, "resonances", &what)?,
+        offset: opt_f64(t, "offset", &what)?.unwrap_or(defaults.offset),
+        frequencies_hz,
+        with_frequencies,
+        inverse,
+        svd_eps: opt_f64(t, "svd-eps", &what)?.unwrap_or(defaults.svd_eps),
+        tol: opt_f64(t, "tol", &what)?.unwrap_or(defaults.tol),
+        max_iter: opt_usize(t, "max-iter", &what)?.unwrap_or(defaults.max_iter),
+        ..defaults
+    };
     let mut th = thresholds(t, &what)?;
     th.min_sfdac = th.min_sfdac.or(opt_f64(t, "fail-below-sfdac", &what)?);
     th.max_freq_error_pct = th
