@@ -1,0 +1,205 @@
+//! `frfup batch`: campaign file, per-case folders, summaries, shards, exit codes.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn frfup(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_frfup"))
+        .args(args)
+        .env("CI", "true")
+        .output()
+        .expect("run frfup")
+}
+
+fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("frfup-cli-batch-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A campaign over the paper's cantilever: a good case, a case whose threshold
+/// cannot be met, and a case whose test file is missing.
+fn campaign(dir: &Path) -> PathBuf {
+    let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/paper/cantilever.deck");
+    std::fs::copy(&deck, dir.join("beam.deck")).unwrap();
+    let sensors: Vec<String> = (2..=16).map(|n| format!("{n}:+z")).collect();
+    let out = frfup(&[
+        "simulate",
+        dir.join("beam.deck").to_str().unwrap(),
+        "--input",
+        "16:+z",
+        "--band",
+        "0:300:1201",
+        "--sensors",
+        &sensors.join(","),
+        "--set",
+        "p3=1.0",
+        "--out",
+        dir.join("beam.uff").to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let toml = r#"
+fail_below_sfdac = 0.5
+
+[[case]]
+name = "good"
+model = "beam.deck"
+test = "beam.uff"
+offset = 0.08
+resonances = 6
+
+[[case]]
+name = "strict"
+model = "beam.deck"
+test = "beam.uff"
+max-iter = 1
+fail_below_sfdac = 1.01
+
+[[case]]
+name = "missing"
+model = "beam.deck"
+test = "nowhere.uff"
+"#;
+    let path = dir.join("campaign.toml");
+    std::fs::write(&path, toml).unwrap();
+    path
+}
+
+#[test]
+fn a_campaign_runs_every_case_and_reports_each() {
+    let dir = workdir("all");
+    let camp = campaign(&dir);
+    let out_dir = dir.join("out");
+    let out = frfup(&[
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--jobs",
+        "2",
+    ]);
+    // a case could not run: exit 2 wins over the failed threshold
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let cases = summary["cases"].as_array().unwrap();
+    let status: Vec<&str> = cases
+        .iter()
+        .map(|c| c["status"].as_str().unwrap())
+        .collect();
+    assert_eq!(status, ["passed", "threshold-failed", "error"]);
+    assert!(cases[2]["detail"].as_str().unwrap().contains("nowhere.uff"));
+    // the good case recovered the doubled stiffness: SFDAC to ~1
+    assert!(cases[0]["sfdac_mean_after"].as_f64().unwrap() > 0.999);
+    assert!(cases[0]["sfdac_mean_before"].as_f64().unwrap() < 0.7);
+    assert!(
+        out_dir.join("good/report.json").exists() && out_dir.join("good/updated.deck").exists()
+    );
+    let csv = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 4, "header + 3 cases");
+    assert!(std::fs::read_to_string(out_dir.join("summary.md"))
+        .unwrap()
+        .contains("| good | passed |"));
+}
+
+#[test]
+fn shards_split_the_campaign_deterministically_and_thresholds_give_exit_1() {
+    let dir = workdir("shard");
+    let camp = campaign(&dir);
+    // shard 2/3 holds case index 1 only: "strict", whose threshold fails → exit 1
+    let out_dir = dir.join("out2");
+    let out = frfup(&[
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--shard",
+        "2/3",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    let names: Vec<&str> = summary["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["strict"]);
+    assert_eq!(summary["skipped_by_shard"], 2);
+    // shard 1/3 holds "good" only → exit 0
+    let out = frfup(&[
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        dir.join("out1").to_str().unwrap(),
+        "--shard",
+        "1/3",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // a bad shard is a usage error
+    let out = frfup(&[
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        dir.join("x").to_str().unwrap(),
+        "--shard",
+        "4/3",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn a_bad_campaign_file_names_file_and_line() {
+    let dir = workdir("bad");
+    let path = dir.join("c.toml");
+    std::fs::write(
+        &path,
+        "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \n",
+    )
+    .unwrap();
+    let out = frfup(&[
+        "batch",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("c.toml") && err.contains("line 4"), "{err}");
+    std::fs::write(
+        &path,
+        "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\nmodez = 3\n",
+    )
+    .unwrap();
+    let out = frfup(&[
+        "batch",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("modez"));
+}
