@@ -116,6 +116,20 @@ enum Command {
         #[arg(long, value_name = "PCT")]
         fail_above_freq_error: Option<f64>,
     },
+    /// Which physics the model lacks: update, localise, test hypotheses (diagnosis.json, diagnosed.deck, report.md).
+    Diagnose {
+        deck: PathBuf,
+        test: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Take the deck's parameters as they are (no update first).
+        #[arg(long)]
+        no_update: bool,
+        /// At most this many extensions.
+        #[arg(long, default_value_t = 4)]
+        max_findings: usize,
+    },
     /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
     Batch {
         campaign: PathBuf,
@@ -369,6 +383,27 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 max_freq_error_pct: fail_above_freq_error,
             };
             check_thresholds(&outcome, thresholds)?;
+        }
+        Command::Diagnose {
+            deck,
+            test,
+            out,
+            no_update,
+            max_findings,
+        } => {
+            let cmd = commands::diagnose::DiagnoseCommand {
+                deck,
+                test,
+                out: out.clone(),
+                options: frfup::diagnosis::DiagnoseOptions {
+                    skip_update: no_update,
+                    max_findings,
+                    ..Default::default()
+                },
+            };
+            let d = commands::diagnose::run(&cmd)?;
+            print!("{}", commands::diagnose::summary(&d));
+            println!("wrote {}", out.display());
         }
         Command::Batch {
             campaign,

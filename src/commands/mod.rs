@@ -4,6 +4,7 @@
 
 pub mod convert;
 pub mod demo;
+pub mod diagnose;
 pub mod info;
 pub mod modes;
 pub mod progress;

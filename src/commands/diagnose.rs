@@ -1,0 +1,64 @@
+//! `frfup diagnose MODEL.deck TEST.uff --out DIR`: which physics the model
+//! lacks; `diagnosis.json`, `diagnosed.deck`, `report.md`.
+
+use std::path::PathBuf;
+
+use super::{read_deck, CommandError};
+use crate::diagnosis::{self, DiagnoseOptions, Diagnosis};
+use crate::testdata;
+
+/// Options of `frfup diagnose`.
+#[derive(Clone, Debug)]
+pub struct DiagnoseCommand {
+    pub deck: PathBuf,
+    pub test: PathBuf,
+    pub out: PathBuf,
+    pub options: DiagnoseOptions,
+}
+
+/// Run a diagnosis and write its files into `out`.
+pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
+    let deck = read_deck(&cmd.deck)?;
+    let test = testdata::load(&cmd.test).map_err(|e| CommandError::input(e.to_string()))?;
+    let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
+        CommandError::input(format!(
+            "{} with {}: {e}",
+            cmd.deck.display(),
+            cmd.test.display()
+        ))
+    })?;
+    diagnosis::write_outputs(
+        &d,
+        &cmd.out,
+        &cmd.deck.display().to_string(),
+        &cmd.test.display().to_string(),
+    )
+    .map_err(|e| CommandError::output(&cmd.out, e))?;
+    Ok(d)
+}
+
+/// One line per finding, for the terminal.
+pub fn summary(d: &Diagnosis) -> String {
+    let mut s = String::new();
+    if d.findings.is_empty() {
+        s.push_str("nothing missing: the deck's parameters explain the test to the noise level\n");
+    }
+    for f in &d.findings {
+        let vals: Vec<String> = f
+            .parameters
+            .iter()
+            .map(|(k, v)| format!("{k}={}", diagnosis::sig(*v)))
+            .collect();
+        s.push_str(&format!(
+            "{}: {} {}\n",
+            f.physics.name(),
+            f.label,
+            vals.join(" ")
+        ));
+    }
+    s.push_str(&format!(
+        "FRF error (1 = noise): {:.2} initial, {:.2} updated, {:.2} diagnosed\n",
+        d.initial.frf_error, d.updated.frf_error, d.diagnosed.frf_error
+    ));
+    s
+}

@@ -1,0 +1,213 @@
+//! The measured FRFs as the diagnosis uses them: one excitation, channels
+//! on test node/direction pairs, a noise estimate per channel and the lines
+//! that stand above the noise floor.
+
+use faer::c64;
+
+use super::DiagnoseError;
+use crate::testdata::MeasuredFrfs;
+use crate::updating::frequencies::{indicator, pick_peaks, PeakOptions, Resonance};
+
+/// One measured channel (test node ids, UFF direction codes).
+#[derive(Clone, Debug)]
+pub struct ChannelInfo {
+    pub node: u32,
+    pub direction: i32,
+    pub label: String,
+}
+
+/// Test data prepared for fitting.
+#[derive(Clone, Debug)]
+pub struct TestData {
+    /// Frequency lines used (Hz, all > 0) and ω = 2πf (rad/s).
+    pub lines_hz: Vec<f64>,
+    pub omegas: Vec<f64>,
+    /// Power of iω that turns receptance into the measured kind.
+    pub order: i32,
+    pub channels: Vec<ChannelInfo>,
+    /// Measured FRF `values[channel][line]`, measured kind, SI units.
+    pub values: Vec<Vec<c64>>,
+    /// Noise standard deviation σ_c of each channel (E|n|² = σ_c²), same units.
+    pub sigma: Vec<f64>,
+    /// Per point (channel, line): 1/√(s² + f²) with s = σ_c/(√2|H|) the noise
+    /// standard deviation of ln|H| (and of arg H), f the model floor; 0 where
+    /// |H| < 3σ_c (below the noise floor).
+    pub weight: Vec<Vec<f64>>,
+    /// Expected squared weighted residual of each point from noise alone: s²/(s² + f²).
+    pub noise_r2: Vec<Vec<f64>>,
+    /// Excitation (test node, direction code).
+    pub input: (u32, i32),
+    /// Resonances picked on the measured FRFs (half-power damping where found).
+    pub resonances: Vec<Resonance>,
+}
+
+/// Model tolerance floor of the relative error (1 %): keeps the sharpest
+/// peak lines from dominating the fit.
+pub const FLOOR: f64 = 0.01;
+
+impl TestData {
+    /// Keep the channels driven at the most common reference; estimate noise
+    /// from second differences along frequency: Δ²n has variance 6σ², and the
+    /// median of a Rayleigh magnitude is σ_Δ√(ln 2), so σ = med|Δ²H| / √(6 ln 2).
+    pub fn new(test: &MeasuredFrfs) -> Result<TestData, DiagnoseError> {
+        let mut refs: Vec<((i64, i32), usize)> = Vec::new();
+        for ch in &test.channels {
+            let key = (ch.reference_node, ch.reference_direction);
+            match refs.iter_mut().find(|(k, _)| *k == key) {
+                Some(e) => e.1 += 1,
+                None => refs.push((key, 1)),
+            }
+        }
+        let Some(&((rn, rd), _)) = refs.iter().max_by_key(|(_, n)| *n) else {
+            return Err(DiagnoseError::Data("the test data hold no FRF".into()));
+        };
+        let input = (
+            u32::try_from(rn).map_err(|_| DiagnoseError::Data(format!("reference node {rn}")))?,
+            rd,
+        );
+        let keep: Vec<usize> = (0..test.frequencies_hz.len())
+            .filter(|&i| test.frequencies_hz[i] > 0.0 && test.frequencies_hz[i].is_finite())
+            .collect();
+        if keep.len() < 8 {
+            return Err(DiagnoseError::Data(
+                "the test has fewer than 8 frequency lines above 0 Hz".into(),
+            ));
+        }
+        let lines_hz: Vec<f64> = keep.iter().map(|&i| test.frequencies_hz[i]).collect();
+        let omegas = lines_hz
+            .iter()
+            .map(|f| 2.0 * std::f64::consts::PI * f)
+            .collect();
+        let mut channels = Vec::new();
+        let mut values = Vec::new();
+        for ch in &test.channels {
+            if (ch.reference_node, ch.reference_direction) != (rn, rd) {
+                continue;
+            }
+            if ch.values.len() != test.frequencies_hz.len() {
+                return Err(DiagnoseError::Data(format!(
+                    "channel {} has {} values for {} lines",
+                    ch.label(),
+                    ch.values.len(),
+                    test.frequencies_hz.len()
+                )));
+            }
+            let Ok(node) = u32::try_from(ch.response_node) else {
+                continue;
+            };
+            let v: Vec<c64> = keep.iter().map(|&i| ch.values[i]).collect();
+            if v.iter().any(|z| !(z.re.is_finite() && z.im.is_finite())) {
+                return Err(DiagnoseError::Data(format!(
+                    "channel {} holds non-finite values",
+                    ch.label()
+                )));
+            }
+            channels.push(ChannelInfo {
+                node,
+                direction: ch.response_direction,
+                label: crate::testdata::dof_label(ch.response_node, ch.response_direction),
+            });
+            values.push(v);
+        }
+        let sigma: Vec<f64> = values.iter().map(|v| noise_sigma(v)).collect();
+        let (weight, noise_r2) = weights(&values, &sigma);
+        let peaks = pick_peaks(
+            &lines_hz,
+            &indicator(&values),
+            &PeakOptions {
+                min_prominence: 2.0,
+            },
+        );
+        Ok(TestData {
+            lines_hz,
+            omegas,
+            order: test.kind.order(),
+            channels,
+            values,
+            sigma,
+            weight,
+            noise_r2,
+            input,
+            resonances: peaks,
+        })
+    }
+
+    /// Median half-power damping ratio of the measured resonances (default 1 %).
+    pub fn half_power_zeta(&self) -> f64 {
+        let mut z: Vec<f64> = self
+            .resonances
+            .iter()
+            .filter_map(|r| r.damping_ratio)
+            .filter(|z| z.is_finite() && *z > 0.0)
+            .collect();
+        if z.is_empty() {
+            return 0.01;
+        }
+        z.sort_by(|a, b| a.total_cmp(b));
+        z[z.len() / 2].clamp(1e-4, 0.2)
+    }
+
+    /// Drop channels (by index) that the model cannot place.
+    pub fn retain_channels(&mut self, keep: &[bool]) {
+        let mut i = 0;
+        self.channels.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+        for v in [&mut self.values] {
+            let mut i = 0;
+            v.retain(|_| {
+                i += 1;
+                keep[i - 1]
+            });
+        }
+        let mut i = 0;
+        self.sigma.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
+        let (w, n) = weights(&self.values, &self.sigma);
+        self.weight = w;
+        self.noise_r2 = n;
+    }
+}
+
+fn noise_sigma(v: &[c64]) -> f64 {
+    let mut d: Vec<f64> = v
+        .windows(3)
+        .map(|w| (w[2] - w[1] * 2.0 + w[0]).norm())
+        .collect();
+    let peak = v.iter().fold(0.0f64, |a, z| a.max(z.norm()));
+    if d.is_empty() {
+        return 1e-6 * peak;
+    }
+    d.sort_by(|a, b| a.total_cmp(b));
+    let med = d[d.len() / 2];
+    (med / (6.0 * std::f64::consts::LN_2).sqrt()).max(1e-9 * peak)
+}
+
+type Grid = Vec<Vec<f64>>;
+
+fn weights(values: &[Vec<c64>], sigma: &[f64]) -> (Grid, Grid) {
+    let mut w = Vec::with_capacity(values.len());
+    let mut n = Vec::with_capacity(values.len());
+    for (v, &s) in values.iter().zip(sigma) {
+        let mut wc = Vec::with_capacity(v.len());
+        let mut nc = Vec::with_capacity(v.len());
+        for z in v {
+            let a = z.norm();
+            if a < 3.0 * s || a == 0.0 {
+                wc.push(0.0);
+                nc.push(0.0);
+            } else {
+                let sr = s / (std::f64::consts::SQRT_2 * a);
+                let d = sr * sr + FLOOR * FLOOR;
+                wc.push(1.0 / d.sqrt());
+                nc.push(sr * sr / d);
+            }
+        }
+        w.push(wc);
+        n.push(nc);
+    }
+    (w, n)
+}

@@ -1,0 +1,498 @@
+//! Model FRFs at the measured channels and the fit of a few parameters.
+//!
+//! Prediction: modal superposition over the lowest modes (up to 2.5·ω_max)
+//! plus the static residual of the others, H_j(ω) = (iω)^k Σ_r φ_jr φ_ir / d_r(ω)
+//! with d_r = ω_r² − ω² + i·(damping term). Residual of a point (channel c,
+//! line l) above the noise floor: w_cl·ln(H_model/H_test), real part (log
+//! magnitude) and imaginary part (phase), with w_cl from [`TestData`].
+//! Cost = mean of the squared residuals; from noise alone it is J0 (≈ the
+//! mean of s²/(s² + f²)), so J/J0 ≈ 1 is a fit at the noise level.
+//!
+//! Parameters are fitted on a log scale within physical bounds: damping by
+//! Levenberg–Marquardt (1–2 parameters, cheap: the modes are reused), one
+//! structural parameter by a log grid then golden-section search of the
+//! damping-profiled cost. Uncertainty: σ²(JᵀJ)⁻¹ at the optimum, with
+//! σ² = Σr²/(N − p).
+
+use faer::c64;
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::DiagnoseError;
+use crate::model::{self, Damping, ParameterValues};
+use crate::solvers::eigen::{self, EigenOptions, Modes};
+use crate::solvers::frf;
+
+/// Which points take part: lines and channels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mask {
+    pub lines: Vec<bool>,
+    pub channels: Vec<bool>,
+}
+
+impl Mask {
+    pub fn all(data: &TestData) -> Mask {
+        Mask {
+            lines: vec![true; data.lines_hz.len()],
+            channels: vec![true; data.channels.len()],
+        }
+    }
+    /// The complementary mask (held-out data) for a fold that holds out lines
+    /// or channels.
+    pub fn complement(&self) -> Mask {
+        let lines_all = self.lines.iter().all(|&b| b);
+        let ch_all = self.channels.iter().all(|&b| b);
+        Mask {
+            lines: if lines_all {
+                self.lines.clone()
+            } else {
+                self.lines.iter().map(|b| !b).collect()
+            },
+            channels: if ch_all {
+                self.channels.clone()
+            } else {
+                self.channels.iter().map(|b| !b).collect()
+            },
+        }
+    }
+}
+
+/// The modes of one model and how they reach the measured channels.
+pub struct ModalModel {
+    /// ω_r² (rad²/s²).
+    pub omega2: Vec<f64>,
+    /// a[c][r] = sign_c·φ_{j(c),r}·φ_{input,r} (1/kg).
+    pub coeff: Vec<Vec<f64>>,
+    /// Static residual of the modes left out, per channel (m/N).
+    pub residual: Vec<f64>,
+    /// Lowest natural frequencies (Hz).
+    pub frequencies_hz: Vec<f64>,
+}
+
+/// Build `deck` (values already multiplied in) and compute its modal model
+/// at the channels of `data`.
+pub fn modal_model(deck: &Deck, data: &TestData) -> Result<ModalModel, DiagnoseError> {
+    let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    let (input, in_sign) = fe.measured_dof(data.input.0, data.input.1).ok_or_else(|| {
+        DiagnoseError::Data(format!(
+            "the excitation {} is not a free DOF of the model",
+            crate::testdata::dof_label(data.input.0 as i64, data.input.1)
+        ))
+    })?;
+    let mut outputs = Vec::with_capacity(data.channels.len());
+    let mut signs = Vec::with_capacity(data.channels.len());
+    for ch in &data.channels {
+        let (eq, s) = fe.measured_dof(ch.node, ch.direction).ok_or_else(|| {
+            DiagnoseError::Data(format!(
+                "channel {} is not a free DOF of the model",
+                ch.label
+            ))
+        })?;
+        outputs.push(eq);
+        signs.push(s * in_sign);
+    }
+    let n = fe.dofs.len();
+    let w_max = data.omegas.iter().fold(0.0f64, |a, w| a.max(*w));
+    let mut count = 40usize.min(n);
+    let modes: Modes = loop {
+        let opts = EigenOptions {
+            count,
+            dense_limit: 2500,
+            expect_no_rigid_body_modes: fe.has_fixed_dofs,
+        };
+        let modes = eigen::lowest_modes(&fe.stiffness, &fe.mass, &opts)
+            .map_err(|e| DiagnoseError::Eigen(e.to_string()))?;
+        let top = modes.omega2.last().copied().unwrap_or(0.0);
+        if top >= (2.5 * w_max).powi(2) || count >= n {
+            break modes;
+        }
+        count = (2 * count).min(n);
+    };
+    let residual = if modes.len() < n {
+        frf::static_residual(&fe.stiffness, &fe.mass, &modes, input, &outputs)
+            .map_err(|e| DiagnoseError::Eigen(e.to_string()))?
+    } else {
+        vec![0.0; outputs.len()]
+    };
+    let coeff = outputs
+        .iter()
+        .zip(&signs)
+        .map(|(&j, &s)| {
+            (0..modes.len())
+                .map(|r| s * modes.shapes[(j, r)] * modes.shapes[(input, r)])
+                .collect()
+        })
+        .collect();
+    let residual = residual.iter().zip(&signs).map(|(r, s)| r * s).collect();
+    Ok(ModalModel {
+        frequencies_hz: modes.frequencies_hz(),
+        omega2: modes.omega2,
+        coeff,
+        residual,
+    })
+}
+
+/// Model FRFs in the measured kind, `[channel][line]`, masked channels left empty.
+pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) -> Vec<Vec<c64>> {
+    let nm = mm.omega2.len();
+    let mut out: Vec<Vec<c64>> = data
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, _)| {
+            if mask.channels[c] {
+                Vec::with_capacity(data.omegas.len())
+            } else {
+                Vec::new()
+            }
+        })
+        .collect();
+    let res_factor = match damping {
+        Damping::Hysteretic { eta } => c64::new(1.0, eta).inv(),
+        _ => c64::new(1.0, 0.0),
+    };
+    let mut inv_d = vec![c64::new(0.0, 0.0); nm];
+    for (l, &w) in data.omegas.iter().enumerate() {
+        let used = mask.lines[l];
+        if used {
+            for (r, &w2) in mm.omega2.iter().enumerate() {
+                let wr = w2.max(0.0).sqrt();
+                let d = match damping {
+                    Damping::None => c64::new(w2 - w * w, 0.0),
+                    Damping::Modal { zeta } => c64::new(w2 - w * w, 2.0 * zeta * wr * w),
+                    Damping::Rayleigh { alpha, beta } => {
+                        c64::new(w2 - w * w, w * (alpha + beta * w2))
+                    }
+                    Damping::Hysteretic { eta } => c64::new(w2 - w * w, w2.max(0.0) * eta),
+                };
+                inv_d[r] = d.inv();
+            }
+        }
+        let kind = match data.order {
+            0 => c64::new(1.0, 0.0),
+            1 => c64::new(0.0, w),
+            _ => c64::new(-w * w, 0.0),
+        };
+        for (c, o) in out.iter_mut().enumerate() {
+            if !mask.channels[c] {
+                continue;
+            }
+            if !used {
+                o.push(c64::new(f64::NAN, f64::NAN));
+                continue;
+            }
+            let a = &mm.coeff[c];
+            let mut h = res_factor * mm.residual[c];
+            for r in 0..nm {
+                h += inv_d[r] * a[r];
+            }
+            o.push(h * kind);
+        }
+    }
+    out
+}
+
+/// Weighted log residuals (magnitude and phase) over the masked points.
+pub fn residuals(pred: &[Vec<c64>], data: &TestData, mask: &Mask) -> Vec<f64> {
+    let mut r = Vec::new();
+    for (c, p) in pred.iter().enumerate() {
+        if !mask.channels[c] {
+            continue;
+        }
+        for (l, hm) in p.iter().enumerate() {
+            let w = data.weight[c][l];
+            if !mask.lines[l] || w == 0.0 {
+                continue;
+            }
+            let ratio = *hm / data.values[c][l];
+            let (a, b) = if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
+                (ratio.norm().ln(), ratio.arg())
+            } else {
+                (10.0, std::f64::consts::PI)
+            };
+            r.push(w * a);
+            r.push(w * b);
+        }
+    }
+    r
+}
+
+/// Noise-level cost J0 of a mask: mean expected squared residual from noise.
+pub fn noise_level(data: &TestData, mask: &Mask) -> f64 {
+    let mut s = 0.0;
+    let mut n = 0usize;
+    for (c, nc) in data.noise_r2.iter().enumerate() {
+        if !mask.channels[c] {
+            continue;
+        }
+        for (l, &v) in nc.iter().enumerate() {
+            if mask.lines[l] && data.weight[c][l] > 0.0 {
+                s += 2.0 * v;
+                n += 2;
+            }
+        }
+    }
+    if n == 0 {
+        0.0
+    } else {
+        s / n as f64
+    }
+}
+
+pub fn mean_sq(r: &[f64]) -> f64 {
+    if r.is_empty() {
+        return f64::INFINITY;
+    }
+    r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64
+}
+
+/// The damping model families and their log-scale parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DampingForm {
+    /// ζ (same ratio in every mode).
+    Modal,
+    /// α (1/s), β (s): C = αM + βK.
+    Rayleigh,
+    /// η: K(1 + iη).
+    Hysteretic,
+}
+
+impl DampingForm {
+    pub fn name(self) -> &'static str {
+        match self {
+            DampingForm::Modal => "modal",
+            DampingForm::Rayleigh => "rayleigh",
+            DampingForm::Hysteretic => "hysteretic",
+        }
+    }
+    /// Parameter names as written in `diagnosis.json`.
+    pub fn parameter_names(self) -> &'static [&'static str] {
+        match self {
+            DampingForm::Modal => &["zeta"],
+            DampingForm::Rayleigh => &["alpha", "beta"],
+            DampingForm::Hysteretic => &["eta"],
+        }
+    }
+    /// Damping from log parameters.
+    pub fn damping(self, x: &[f64]) -> Damping {
+        match self {
+            DampingForm::Modal => Damping::Modal { zeta: x[0].exp() },
+            DampingForm::Rayleigh => Damping::Rayleigh {
+                alpha: x[0].exp(),
+                beta: x[1].exp(),
+            },
+            DampingForm::Hysteretic => Damping::Hysteretic { eta: x[0].exp() },
+        }
+    }
+    /// Log parameters giving about ζ at the centre of the band ω_c (rad/s).
+    pub fn start(self, zeta: f64, w_c: f64) -> Vec<f64> {
+        match self {
+            DampingForm::Modal => vec![zeta.ln()],
+            DampingForm::Rayleigh => vec![(zeta * w_c).ln(), (zeta / w_c).ln()],
+            DampingForm::Hysteretic => vec![(2.0 * zeta).ln()],
+        }
+    }
+    /// Log bounds for a band [ω_lo, ω_hi].
+    pub fn bounds(self, w_lo: f64, w_hi: f64) -> (Vec<f64>, Vec<f64>) {
+        match self {
+            DampingForm::Modal => (vec![1e-4f64.ln()], vec![0.3f64.ln()]),
+            DampingForm::Hysteretic => (vec![2e-4f64.ln()], vec![0.6f64.ln()]),
+            DampingForm::Rayleigh => (
+                vec![(1e-6 * w_hi).ln(), (1e-6 / w_hi).ln()],
+                vec![(0.6 * w_hi).ln(), (0.6 / w_lo).ln()],
+            ),
+        }
+    }
+    /// The form and log parameters of a deck's damping, if any.
+    pub fn of(d: Damping) -> Option<(DampingForm, Vec<f64>)> {
+        match d {
+            Damping::Modal { zeta } if zeta > 0.0 => Some((DampingForm::Modal, vec![zeta.ln()])),
+            Damping::Hysteretic { eta } if eta > 0.0 => {
+                Some((DampingForm::Hysteretic, vec![eta.ln()]))
+            }
+            Damping::Rayleigh { alpha, beta } if alpha > 0.0 && beta > 0.0 => {
+                Some((DampingForm::Rayleigh, vec![alpha.ln(), beta.ln()]))
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Outcome of a Levenberg–Marquardt run.
+#[derive(Clone, Debug)]
+pub struct LmOutcome {
+    pub x: Vec<f64>,
+    pub residuals: Vec<f64>,
+}
+
+/// Bounded Levenberg–Marquardt on a few parameters (forward differences,
+/// step 1e-4 on the log scale, steps clamped to the bounds).
+pub fn lm<F>(mut f: F, x0: &[f64], lo: &[f64], hi: &[f64], max_iter: usize) -> Option<LmOutcome>
+where
+    F: FnMut(&[f64]) -> Option<Vec<f64>>,
+{
+    let p = x0.len();
+    let mut x: Vec<f64> = (0..p).map(|i| x0[i].clamp(lo[i], hi[i])).collect();
+    let mut r = f(&x)?;
+    let mut cost: f64 = r.iter().map(|v| v * v).sum();
+    let mut lambda = 1e-3;
+    for _ in 0..max_iter {
+        let jac = jacobian(&mut f, &x, &r, lo, hi)?;
+        let (jtj, jtr) = normal(&jac, &r);
+        let mut improved = false;
+        for _ in 0..8 {
+            let mut a = jtj.clone();
+            for i in 0..p {
+                a[i][i] += lambda * jtj[i][i].max(1e-12);
+            }
+            let Some(step) = solve_small(a, jtr.iter().map(|v| -v).collect()) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let xn: Vec<f64> = (0..p)
+                .map(|i| (x[i] + step[i].clamp(-2.0, 2.0)).clamp(lo[i], hi[i]))
+                .collect();
+            let Some(rn) = f(&xn) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let cn: f64 = rn.iter().map(|v| v * v).sum();
+            if cn < cost {
+                let rel = (cost - cn) / cost.max(1e-300);
+                let moved = (0..p).map(|i| (xn[i] - x[i]).abs()).fold(0.0, f64::max);
+                x = xn;
+                r = rn;
+                cost = cn;
+                lambda = (lambda / 3.0).max(1e-9);
+                improved = true;
+                if rel < 1e-7 || moved < 1e-6 {
+                    return Some(LmOutcome { x, residuals: r });
+                }
+                break;
+            }
+            lambda *= 10.0;
+        }
+        if !improved {
+            break;
+        }
+    }
+    Some(LmOutcome { x, residuals: r })
+}
+
+/// Forward-difference Jacobian columns ∂r/∂x_i (backward at an upper bound).
+pub fn jacobian<F>(f: &mut F, x: &[f64], r: &[f64], lo: &[f64], hi: &[f64]) -> Option<Vec<Vec<f64>>>
+where
+    F: FnMut(&[f64]) -> Option<Vec<f64>>,
+{
+    let mut cols = Vec::with_capacity(x.len());
+    for i in 0..x.len() {
+        let mut h = 1e-4;
+        if x[i] + h > hi[i] && x[i] - h >= lo[i] {
+            h = -h;
+        }
+        let mut xp = x.to_vec();
+        xp[i] += h;
+        let rp = f(&xp)?;
+        if rp.len() != r.len() {
+            return None;
+        }
+        cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+    }
+    Some(cols)
+}
+
+fn normal(jac: &[Vec<f64>], r: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>) {
+    let p = jac.len();
+    let mut a = vec![vec![0.0; p]; p];
+    let mut b = vec![0.0; p];
+    for i in 0..p {
+        for j in 0..=i {
+            let s: f64 = jac[i].iter().zip(&jac[j]).map(|(u, v)| u * v).sum();
+            a[i][j] = s;
+            a[j][i] = s;
+        }
+        b[i] = jac[i].iter().zip(r).map(|(u, v)| u * v).sum();
+    }
+    (a, b)
+}
+
+/// Gaussian elimination with partial pivoting for a small dense system.
+pub fn solve_small(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for k in 0..n {
+        let piv = (k..n).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
+        if !(a[piv][k].abs() > 1e-300) {
+            return None;
+        }
+        a.swap(k, piv);
+        b.swap(k, piv);
+        for i in k + 1..n {
+            let f = a[i][k] / a[k][k];
+            for j in k..n {
+                a[i][j] -= f * a[k][j];
+            }
+            b[i] -= f * b[k];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for k in (0..n).rev() {
+        let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
+        x[k] = (b[k] - s) / a[k][k];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// Standard deviations of x from σ²(JᵀJ)⁻¹ with σ² = Σr²/(N − p).
+pub fn std_devs(jac: &[Vec<f64>], r: &[f64]) -> Vec<f64> {
+    let p = jac.len();
+    let (jtj, _) = normal(jac, r);
+    let dof = (r.len() as f64 - p as f64).max(1.0);
+    let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof;
+    (0..p)
+        .map(|i| {
+            let mut e = vec![0.0; p];
+            e[i] = 1.0;
+            solve_small(jtj.clone(), e)
+                .map(|col| (s2 * col[i]).max(0.0).sqrt())
+                .unwrap_or(f64::INFINITY)
+        })
+        .collect()
+}
+
+/// Current damping model of a fit: its form and log parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DampingState {
+    pub form: DampingForm,
+    pub x: Vec<f64>,
+}
+
+impl DampingState {
+    pub fn damping(&self) -> Damping {
+        self.form.damping(&self.x)
+    }
+}
+
+/// Fit the damping parameters of `state.form` to the masked data on one modal model.
+pub fn fit_damping(
+    mm: &ModalModel,
+    state: &DampingState,
+    data: &TestData,
+    mask: &Mask,
+    max_iter: usize,
+) -> (DampingState, Vec<f64>) {
+    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
+    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
+    let (lo, hi) = state.form.bounds(w_lo, w_hi);
+    let form = state.form;
+    let f = |x: &[f64]| -> Option<Vec<f64>> {
+        let pred = predict(mm, form.damping(x), data, mask);
+        Some(residuals(&pred, data, mask))
+    };
+    match lm(f, &state.x, &lo, &hi, max_iter) {
+        Some(o) => (DampingState { form, x: o.x }, o.residuals),
+        None => {
+            let pred = predict(mm, state.damping(), data, mask);
+            (state.clone(), residuals(&pred, data, mask))
+        }
+    }
+}

@@ -1,0 +1,113 @@
+//! Localisation by sensitivity screening (forward selection): each candidate
+//! extension is probed once at a typical value; with r₀ the current weighted
+//! residual and Δr the change the probe makes, moving along Δr can lower
+//! |r|² by at most (r₀·Δr)²/|Δr|² (only for r₀·Δr < 0, a physical step).
+//! That fraction of |r₀|² is the candidate's score; node scores (the best
+//! candidate at each node) say where the model disagrees.
+
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::fit::{self, DampingState, Mask, ModalModel};
+use super::hypotheses::Hypothesis;
+
+/// Residual change of one probed candidate.
+pub struct Probe {
+    pub index: usize,
+    pub score: f64,
+    pub delta: Vec<f64>,
+}
+
+/// Probe every candidate that has a free parameter; candidates whose deck
+/// does not build get score 0.
+pub fn probe(
+    base: &Deck,
+    r0: &[f64],
+    damping: &DampingState,
+    data: &TestData,
+    candidates: &[Hypothesis],
+) -> Vec<Probe> {
+    let mask = Mask::all(data);
+    let n0: f64 = r0.iter().map(|v| v * v).sum::<f64>().max(1e-300);
+    candidates
+        .iter()
+        .enumerate()
+        .map(|(index, h)| {
+            let value = h.param.as_ref().map(|p| p.probe);
+            let deck = h.apply(base, value);
+            let delta = match fit::modal_model(&deck, data) {
+                Ok(mm) => residual_change(&mm, damping, data, &mask, r0),
+                Err(_) => Vec::new(),
+            };
+            let score = reduction(r0, &delta) / n0;
+            Probe {
+                index,
+                score,
+                delta,
+            }
+        })
+        .collect()
+}
+
+fn residual_change(
+    mm: &ModalModel,
+    damping: &DampingState,
+    data: &TestData,
+    mask: &Mask,
+    r0: &[f64],
+) -> Vec<f64> {
+    let pred = fit::predict(mm, damping.damping(), data, mask);
+    let r = fit::residuals(&pred, data, mask);
+    if r.len() != r0.len() {
+        return Vec::new();
+    }
+    r.iter().zip(r0).map(|(a, b)| a - b).collect()
+}
+
+/// max over a > 0 of |r₀|² − |r₀ + aΔ|².
+pub fn reduction(r0: &[f64], delta: &[f64]) -> f64 {
+    if delta.len() != r0.len() || delta.is_empty() {
+        return 0.0;
+    }
+    let dd: f64 = delta.iter().map(|v| v * v).sum();
+    let rd: f64 = r0.iter().zip(delta).map(|(a, b)| a * b).sum();
+    if dd > 0.0 && rd < 0.0 {
+        rd * rd / dd
+    } else {
+        0.0
+    }
+}
+
+/// Forward selection of a set of same-valued extensions (e.g. suspension
+/// springs): add the probe whose Δr, summed with those chosen, lowers |r|²
+/// most; stop after `max` or when the gain is below 2 % of |r₀|².
+pub fn forward_select(r0: &[f64], probes: &[&Probe], max: usize) -> Vec<usize> {
+    let n0: f64 = r0.iter().map(|v| v * v).sum::<f64>().max(1e-300);
+    let mut chosen: Vec<usize> = Vec::new();
+    let mut sum: Vec<f64> = vec![0.0; r0.len()];
+    let mut best_red = 0.0;
+    while chosen.len() < max {
+        let mut best: Option<(usize, f64)> = None;
+        for (i, p) in probes.iter().enumerate() {
+            if chosen.contains(&i) || p.delta.len() != r0.len() {
+                continue;
+            }
+            let trial: Vec<f64> = sum.iter().zip(&p.delta).map(|(a, b)| a + b).collect();
+            let red = reduction(r0, &trial);
+            if best.is_none_or(|(_, b)| red > b) {
+                best = Some((i, red));
+            }
+        }
+        match best {
+            Some((i, red)) if red > best_red + 0.02 * n0 => {
+                for (s, d) in sum.iter_mut().zip(&probes[i].delta) {
+                    *s += d;
+                }
+                chosen.push(i);
+                best_red = red;
+            }
+            _ => break,
+        }
+    }
+    chosen
+}

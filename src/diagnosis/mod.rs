@@ -1,0 +1,706 @@
+//! `frfup diagnose`: find the physics a model lacks.
+//!
+//! 1. Correlate the deck with the test and update its own parameters
+//!    ([`crate::updating::update`]).
+//! 2. Localise what remains ([`localise`]: sensitivity screening of every
+//!    candidate extension, mapped onto nodes).
+//! 3. Fit hypotheses from a dictionary ([`hypotheses`]), each a small model
+//!    extension with at most one parameter on a log scale within bounds,
+//!    with the damping fitted along ([`fit`]).
+//! 4. Keep those that predict held-out frequency bands and channels better
+//!    by more than the noise explains, greedily ([`select`]).
+//! 5. Write `diagnosis.json`, `diagnosed.deck` and `report.md` ([`output`]).
+
+pub mod data;
+pub mod fit;
+pub mod hypotheses;
+pub mod localise;
+pub mod output;
+pub mod select;
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use frfup_parsers::deck::Deck;
+
+use crate::model::{self, Damping, ModelError, ParameterValues};
+use crate::testdata::MeasuredFrfs;
+use crate::updating::{self, UpdateOptions};
+use data::TestData;
+use fit::{DampingForm, DampingState, Mask};
+use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
+use select::{Engine, HypFit};
+
+pub use output::write_outputs;
+
+/// Settings of a diagnosis.
+#[derive(Clone, Debug)]
+pub struct DiagnoseOptions {
+    /// Options of the first step, the update of the deck's own parameters.
+    pub update: UpdateOptions,
+    /// Skip the update (the deck's parameters are taken as they are).
+    pub skip_update: bool,
+    /// At most this many extensions are accepted.
+    pub max_findings: usize,
+    /// Candidates (after screening) fitted in full per round.
+    pub fitted_per_round: usize,
+}
+
+impl Default for DiagnoseOptions {
+    fn default() -> Self {
+        DiagnoseOptions {
+            update: UpdateOptions::default(),
+            skip_update: false,
+            max_findings: 4,
+            fitted_per_round: 8,
+        }
+    }
+}
+
+/// Why a diagnosis could not run.
+#[derive(Debug)]
+pub enum DiagnoseError {
+    Model(ModelError),
+    Eigen(String),
+    Data(String),
+}
+
+impl fmt::Display for DiagnoseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            DiagnoseError::Model(e) => write!(f, "model: {e}"),
+            DiagnoseError::Eigen(e) => write!(f, "modes: {e}"),
+            DiagnoseError::Data(e) => write!(f, "test data: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for DiagnoseError {}
+
+/// How well a model matches the test.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitQuality {
+    /// SFDAC (Eq. 45) of the signed FRF vectors at the measured resonances.
+    pub sfdac_mean: f64,
+    pub sfdac_min: f64,
+    /// Mean |f_model − f_test|/f_test (%) over the resonances, model peaks paired by nearness.
+    pub freq_error_mean_pct: f64,
+    /// Mean squared weighted log-FRF error over all lines and channels above
+    /// the noise floor, divided by its noise-only value (1 = noise level).
+    pub frf_error: f64,
+    /// RMS of |ln(H_model/H_test)| over the same points.
+    pub frf_log_rms: f64,
+    /// The damping the numbers were computed with.
+    pub damping: String,
+}
+
+/// One accepted extension.
+#[derive(Clone, Debug)]
+pub struct Finding {
+    pub physics: Physics,
+    pub nodes: Vec<u32>,
+    pub dofs: Vec<String>,
+    /// Fitted values (SI): `zeta`, `alpha`/`beta`, `eta`, `m` (kg) or `k`.
+    pub parameters: BTreeMap<String, f64>,
+    /// One standard deviation of each parameter (same units).
+    pub uncertainty: BTreeMap<String, f64>,
+    pub validation_error_before: f64,
+    pub validation_error_after: f64,
+    pub label: String,
+    /// Other hypotheses the data cannot tell apart from this one.
+    pub indistinguishable_from: Vec<String>,
+}
+
+/// A hypothesis that was fitted and validated but not accepted.
+#[derive(Clone, Debug)]
+pub struct Rejected {
+    pub label: String,
+    pub round: usize,
+    pub value: Option<f64>,
+    pub validation_error: f64,
+    pub reason: String,
+}
+
+/// The outcome of a diagnosis.
+#[derive(Clone, Debug)]
+pub struct Diagnosis {
+    pub findings: Vec<Finding>,
+    pub initial: FitQuality,
+    pub updated: FitQuality,
+    pub diagnosed: FitQuality,
+    pub diagnosed_deck: Deck,
+    /// Parameter values of the update (relative changes), empty if none.
+    pub updated_parameters: ParameterValues,
+    pub update_note: Option<String>,
+    /// Validation cost noise level J0.
+    pub noise_level: f64,
+    /// Node scores of the first localisation round (best candidate at each node), descending.
+    pub localisation: Vec<(u32, f64, String)>,
+    pub rejected: Vec<Rejected>,
+    /// Channels used and ignored.
+    pub channels: Vec<String>,
+    pub ignored_channels: Vec<String>,
+    pub model_evaluations: usize,
+    /// True when the final model explains the data to the noise level.
+    pub at_noise_level: bool,
+}
+
+/// Run the diagnosis of `deck` against `test`.
+pub fn diagnose(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &DiagnoseOptions,
+) -> Result<Diagnosis, DiagnoseError> {
+    let mut data = TestData::new(test)?;
+    // Channels the model cannot place are ignored.
+    let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    if fe.measured_dof(data.input.0, data.input.1).is_none() {
+        return Err(DiagnoseError::Data(format!(
+            "the excitation {} is not a free DOF of the model",
+            crate::testdata::dof_label(data.input.0 as i64, data.input.1)
+        )));
+    }
+    let keep: Vec<bool> = data
+        .channels
+        .iter()
+        .map(|c| fe.measured_dof(c.node, c.direction).is_some())
+        .collect();
+    let ignored_channels: Vec<String> = data
+        .channels
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| !**k)
+        .map(|(c, _)| c.label.clone())
+        .collect();
+    data.retain_channels(&keep);
+    if data.channels.is_empty() {
+        return Err(DiagnoseError::Data(
+            "no test channel matches a free DOF of the model".into(),
+        ));
+    }
+    let engine = Engine::new(&data);
+    let j0 = engine.noise_level();
+    let zeta0 = data.half_power_zeta();
+    let w = &data.omegas;
+    let wc = (w[0] * w[w.len() - 1]).sqrt();
+    let deck_damping = hdamp::of_deck(deck);
+    let deck_form = DampingForm::of(deck_damping);
+    let start_damping = deck_form
+        .clone()
+        .map(|(form, x)| DampingState { form, x })
+        .unwrap_or(DampingState {
+            form: DampingForm::Modal,
+            x: DampingForm::Modal.start(zeta0, wc),
+        });
+
+    // 1. The deck as given, then with its own parameters updated.
+    let initial = quality(&engine, deck, &start_damping)?;
+    let mut update_note = None;
+    let mut updated_parameters = ParameterValues::new();
+    let mut updated_deck = deck.clone();
+    if !opts.skip_update && !deck.params.is_empty() {
+        match updating::update(deck, test, &opts.update) {
+            Ok(res) => {
+                updated_parameters = res.parameter_values();
+                updated_deck = model::updated_deck(deck, &updated_parameters);
+                update_note = Some(format!(
+                    "update {} after {} iteration(s)",
+                    res.stop.name(),
+                    res.iterations.len().saturating_sub(1)
+                ));
+            }
+            Err(e) => update_note = Some(format!("update failed ({e}); deck values kept")),
+        }
+    }
+    // Keep the update only if it does not worsen the damping-profiled fit.
+    let c_init = engine
+        .fit(None, deck, &start_damping, &engine.all, None, 0, 0, false)
+        .map_or(f64::INFINITY, |f| f.cost);
+    let c_upd = engine
+        .fit(
+            None,
+            &updated_deck,
+            &start_damping,
+            &engine.all,
+            None,
+            0,
+            0,
+            false,
+        )
+        .map_or(f64::INFINITY, |f| f.cost);
+    if c_upd > c_init * 1.02 && updated_deck != *deck {
+        updated_deck = deck.clone();
+        updated_parameters.clear();
+        update_note = Some(format!(
+            "{}; the updated values fitted the FRFs worse and were not kept",
+            update_note.unwrap_or_default()
+        ));
+    }
+    let updated = quality(&engine, &updated_deck, &start_damping)?;
+
+    // 2.–4. Damping form, then greedy extensions.
+    let (mut damp, _forms) =
+        select::choose_damping(&engine, &updated_deck, deck_form.clone(), zeta0)
+            .ok_or_else(|| DiagnoseError::Eigen("the updated model gives no usable FRF".into()))?;
+    let mut current = updated_deck.clone();
+    let base_fit = engine
+        .fit(None, &current, &damp, &engine.all, None, 0, 0, false)
+        .ok_or_else(|| DiagnoseError::Eigen("the updated model gives no usable FRF".into()))?;
+    damp = base_fit.damping.clone();
+    let mut cost = base_fit.cost;
+    let mut v_cur = engine.validate(None, &current, &base_fit);
+    let mut findings = Vec::new();
+    let mut rejected = Vec::new();
+    let mut localisation = Vec::new();
+    let mut used_labels: Vec<String> = Vec::new();
+    for round in 0..opts.max_findings {
+        if cost <= 1.25 * j0 {
+            break;
+        }
+        let step = search_round(&engine, &current, &damp, &data, opts, &used_labels)?;
+        if round == 0 {
+            localisation = step.localisation.clone();
+        }
+        let m = select::margin(v_cur, j0);
+        let mut accepted: Option<(Hypothesis, HypFit, f64)> = None;
+        let mut scored: Vec<(Hypothesis, HypFit, f64)> = Vec::new();
+        for (h, f, v) in step.validated {
+            let reason = if f.on_bound {
+                Some("fit ends on a bound".to_string())
+            } else if f.std.is_some_and(|s| !(s < f.value.unwrap_or(0.0))) {
+                Some("uncertainty exceeds the value".to_string())
+            } else if !(v < v_cur - m) {
+                Some(format!(
+                    "validation error {v:.4} not below {:.4} − margin {m:.4}",
+                    v_cur
+                ))
+            } else {
+                None
+            };
+            match reason {
+                Some(r) => rejected.push(Rejected {
+                    label: h.label.clone(),
+                    round: round + 1,
+                    value: f.value,
+                    validation_error: v,
+                    reason: r,
+                }),
+                None => scored.push((h, f, v)),
+            }
+        }
+        scored.sort_by(|a, b| a.2.total_cmp(&b.2));
+        if let Some(best) = scored.first() {
+            accepted = Some(best.clone());
+        }
+        let Some((h, f, v)) = accepted else {
+            break;
+        };
+        let alternatives: Vec<String> = scored
+            .iter()
+            .skip(1)
+            .filter(|(o, _, vo)| *vo < v + m && o.label != h.label)
+            .map(|(o, fo, vo)| {
+                format!(
+                    "{} ({}validation error {vo:.4})",
+                    o.label,
+                    fo.value
+                        .zip(o.param.as_ref())
+                        .map(|(x, p)| format!("{} = {} {}, ", p.name, sig(x), p.unit))
+                        .unwrap_or_default()
+                )
+            })
+            .collect();
+        for (o, fo, vo) in scored.iter().skip(1) {
+            rejected.push(Rejected {
+                label: o.label.clone(),
+                round: round + 1,
+                value: fo.value,
+                validation_error: *vo,
+                reason: format!("a better hypothesis was accepted ({})", h.label),
+            });
+        }
+        let mut parameters = BTreeMap::new();
+        let mut uncertainty = BTreeMap::new();
+        if let (Some(p), Some(x)) = (&h.param, f.value) {
+            parameters.insert(p.name.to_string(), x);
+            uncertainty.insert(p.name.to_string(), f.std.unwrap_or(f64::INFINITY));
+        }
+        findings.push(Finding {
+            physics: h.physics,
+            nodes: h.nodes.clone(),
+            dofs: h.dofs.clone(),
+            parameters,
+            uncertainty,
+            validation_error_before: v_cur,
+            validation_error_after: v,
+            label: h.label.clone(),
+            indistinguishable_from: alternatives,
+        });
+        used_labels.push(h.label.clone());
+        current = h.apply(&current, f.value);
+        damp = f.damping.clone();
+        cost = f.cost;
+        v_cur = v;
+    }
+
+    // Damping: a finding when the deck has none, or when the fitted damping
+    // predicts held-out data better than the deck's.
+    let final_fit = engine
+        .fit(None, &current, &damp, &engine.all, None, 0, 0, true)
+        .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
+    damp = final_fit.damping.clone();
+    let v_fitted = engine.validate(None, &current, &final_fit);
+    let damping_finding = match &deck_form {
+        None => Some(f64::INFINITY),
+        Some((form, x)) => {
+            let deck_state = DampingState {
+                form: *form,
+                x: x.clone(),
+            };
+            let v_deck = engine.validate_fixed_damping(&current, &deck_state);
+            (v_fitted < v_deck - select::margin(v_deck, j0)).then_some(v_deck)
+        }
+    };
+    if let Some(before) = damping_finding {
+        let mut parameters = BTreeMap::new();
+        let mut uncertainty = BTreeMap::new();
+        for (i, name) in damp.form.parameter_names().iter().enumerate() {
+            let x = damp.x[i].exp();
+            parameters.insert(name.to_string(), x);
+            let s = final_fit
+                .damping_std_log
+                .get(i)
+                .copied()
+                .unwrap_or(f64::INFINITY);
+            uncertainty.insert(name.to_string(), s * x);
+        }
+        findings.insert(
+            0,
+            Finding {
+                physics: Physics::Damping,
+                nodes: vec![],
+                dofs: vec![],
+                parameters,
+                uncertainty,
+                validation_error_before: before,
+                validation_error_after: v_fitted,
+                label: format!("{} damping", damp.form.name()),
+                indistinguishable_from: vec![],
+            },
+        );
+    }
+    let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
+    // Round trip through the writer so the deck is exactly what a file gives.
+    let text = frfup_parsers::deck::write(&diagnosed_deck);
+    diagnosed_deck = frfup_parsers::deck::parse(&text).map_err(|e| {
+        DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
+    })?;
+    let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
+    let at_noise_level = final_fit.cost <= 1.25 * j0;
+    Ok(Diagnosis {
+        findings,
+        initial,
+        updated,
+        diagnosed,
+        diagnosed_deck,
+        updated_parameters,
+        update_note,
+        noise_level: j0,
+        localisation,
+        rejected,
+        channels: data.channels.iter().map(|c| c.label.clone()).collect(),
+        ignored_channels,
+        model_evaluations: engine.evaluations.get(),
+        at_noise_level,
+    })
+}
+
+/// Number with 4 significant digits.
+pub fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&e) {
+        let d = (3 - e).max(0) as usize;
+        format!("{x:.d$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+struct Round {
+    validated: Vec<(Hypothesis, HypFit, f64)>,
+    localisation: Vec<(u32, f64, String)>,
+}
+
+/// One greedy round: generate, screen, fit, validate.
+fn search_round(
+    engine: &Engine,
+    current: &Deck,
+    damp: &DampingState,
+    data: &TestData,
+    opts: &DiagnoseOptions,
+    used: &[String],
+) -> Result<Round, DiagnoseError> {
+    let mm = engine.model(current)?;
+    let r0 = fit::residuals(
+        &fit::predict(&mm, damp.damping(), data, &engine.all),
+        data,
+        &engine.all,
+    );
+    let first_elastic = mm
+        .omega2
+        .iter()
+        .copied()
+        .find(|&w2| w2 > 1e-6 * mm.omega2.last().copied().unwrap_or(1.0).max(1e-300))
+        .unwrap_or(1.0)
+        .max(1e-12)
+        .sqrt();
+    let fe = model::build(current, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    let mut sensor_nodes: Vec<u32> = data
+        .channels
+        .iter()
+        .map(|c| fe.sensors.get(&c.node).copied().unwrap_or(c.node))
+        .collect();
+    sensor_nodes.sort_unstable();
+    sensor_nodes.dedup();
+    let ctx = Context {
+        deck: current,
+        sensor_nodes,
+        total_mass: hypotheses::total_mass(current),
+        free_free: !fe.has_fixed_dofs,
+        first_elastic_omega: first_elastic,
+    };
+    let mut candidates: Vec<Hypothesis> = Vec::new();
+    candidates.extend(hypotheses::masses::sensor_mass(&ctx));
+    candidates.extend(hypotheses::springs::support_flexibility(&ctx));
+    candidates.extend(hypotheses::joint::joint_flexibility(&ctx));
+    candidates.extend(hypotheses::masses::added_mass(&ctx));
+    let suspension_singles = hypotheses::springs::suspension_single(&ctx);
+    let n_main = candidates.len();
+    candidates.extend(suspension_singles);
+    candidates.retain(|h| !used.contains(&h.label));
+    let probes = localise::probe(current, &r0, damp, data, &candidates);
+    // Node map: the best score at each node.
+    let mut node_scores: BTreeMap<u32, (f64, String)> = BTreeMap::new();
+    for p in &probes {
+        let h = &candidates[p.index];
+        if h.nodes.len() != 1 {
+            continue;
+        }
+        let e = node_scores
+            .entry(h.nodes[0])
+            .or_insert((0.0, String::new()));
+        if p.score > e.0 {
+            *e = (p.score, h.label.clone());
+        }
+    }
+    let mut localisation: Vec<(u32, f64, String)> = node_scores
+        .into_iter()
+        .filter(|(_, (s, _))| *s > 0.0)
+        .map(|(n, (s, l))| (n, s, l))
+        .collect();
+    localisation.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    localisation.truncate(10);
+
+    // Selection: the best-scored candidates overall, plus the best of each class.
+    let n_main = n_main.min(candidates.len());
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by(|&a, &b| probes[b].score.total_cmp(&probes[a].score).then(a.cmp(&b)));
+    let mut chosen: Vec<Hypothesis> = Vec::new();
+    let main_order: Vec<usize> = order
+        .iter()
+        .copied()
+        .filter(|&i| i < n_main && candidates[i].physics != Physics::Suspension)
+        .collect();
+    for &i in main_order.iter().take(opts.fitted_per_round / 2) {
+        if probes[i].score > 0.0 {
+            chosen.push(candidates[i].clone());
+        }
+    }
+    for class in [
+        Physics::SensorMass,
+        Physics::SupportFlexibility,
+        Physics::JointFlexibility,
+        Physics::AddedMass,
+    ] {
+        if let Some(&i) = main_order
+            .iter()
+            .find(|&&i| candidates[i].physics == class && probes[i].score > 0.0)
+        {
+            if !chosen.iter().any(|c| c.label == candidates[i].label) {
+                chosen.push(candidates[i].clone());
+            }
+        }
+    }
+    // Suspension: forward selection of same-stiffness springs per direction.
+    if ctx.free_free {
+        let mut dirs: Vec<String> = Vec::new();
+        for i in n_main..candidates.len() {
+            let d = candidates[i].dofs[0].clone();
+            if !dirs.contains(&d) {
+                dirs.push(d);
+            }
+        }
+        let mut best_dir: Option<(f64, Vec<u32>, frfup_parsers::deck::DeckDof)> = None;
+        for d in dirs {
+            let set: Vec<&localise::Probe> = (n_main..candidates.len())
+                .filter(|&i| candidates[i].dofs[0] == d)
+                .map(|i| &probes[i])
+                .collect();
+            let picked = localise::forward_select(&r0, &set, 4);
+            if picked.is_empty() {
+                continue;
+            }
+            let nodes: Vec<u32> = picked
+                .iter()
+                .map(|&k| candidates[set[k].index].nodes[0])
+                .collect();
+            let sum: Vec<f64> = (0..r0.len())
+                .map(|j| picked.iter().map(|&k| set[k].delta[j]).sum())
+                .collect();
+            let red = localise::reduction(&r0, &sum);
+            let dof = match &candidates[set[0].index].extension {
+                hypotheses::Extension::GroundSprings { dof, .. } => *dof,
+                _ => continue,
+            };
+            if best_dir.as_ref().is_none_or(|b| red > b.0) {
+                best_dir = Some((red, nodes, dof));
+            }
+        }
+        if let Some((_, nodes, dof)) = best_dir {
+            for k in 1..=nodes.len() {
+                let mut set = nodes[..k].to_vec();
+                set.sort_unstable();
+                let h = hypotheses::springs::suspension(&ctx, set, dof);
+                if !used.contains(&h.label) {
+                    chosen.push(h);
+                }
+            }
+        }
+    }
+    // Shear deformation has no parameter: always fitted.
+    chosen.extend(
+        hypotheses::shear::shear_deformation(&ctx)
+            .into_iter()
+            .filter(|h| !used.contains(&h.label)),
+    );
+    // Full fits, then cross-validation of the most promising.
+    let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
+        .into_iter()
+        .filter_map(|h| {
+            engine
+                .fit(Some(&h), current, damp, &engine.all, None, 9, 10, true)
+                .map(|f| (h, f))
+        })
+        .collect();
+    fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+    let base_cost = fit::mean_sq(&r0).min(
+        engine
+            .fit(None, current, damp, &engine.all, None, 0, 0, false)
+            .map_or(f64::INFINITY, |f| f.cost),
+    );
+    let mut validated = Vec::new();
+    for (h, f) in fitted.into_iter().take(4) {
+        if !(f.cost < base_cost * 0.97) {
+            continue;
+        }
+        let v = engine.validate(Some(&h), current, &f);
+        validated.push((h, f, v));
+    }
+    Ok(Round {
+        validated,
+        localisation,
+    })
+}
+
+/// Fit quality of `deck` with damping `damp` (damping refitted first).
+fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuality, DiagnoseError> {
+    let data = engine.data;
+    let mm = engine.model(deck)?;
+    let all = Mask::all(data);
+    let (d, r) = fit::fit_damping(&mm, damp, data, &all, 10);
+    let pred = fit::predict(&mm, d.damping(), data, &all);
+    let j = fit::mean_sq(&r);
+    let j0 = fit::noise_level(data, &all);
+    // Log RMS of the magnitude part.
+    let mut s = 0.0;
+    let mut n = 0usize;
+    for (c, p) in pred.iter().enumerate() {
+        for (l, h) in p.iter().enumerate() {
+            if data.weight[c][l] > 0.0 {
+                let v = (h.norm() / data.values[c][l].norm()).ln();
+                if v.is_finite() {
+                    s += v * v;
+                    n += 1;
+                }
+            }
+        }
+    }
+    let mut sf = Vec::new();
+    for res in &data.resonances {
+        let l = res.line.min(data.lines_hz.len().saturating_sub(1));
+        let fe: Vec<f64> = pred
+            .iter()
+            .map(|p| crate::testdata::signed_real(p[l]))
+            .collect();
+        let te: Vec<f64> = data
+            .values
+            .iter()
+            .map(|v| crate::testdata::signed_real(v[l]))
+            .collect();
+        sf.push(updating::sfdac(&fe, &te));
+    }
+    let model_peaks = updating::frequencies::pick_peaks(
+        &data.lines_hz,
+        &updating::frequencies::indicator(&pred),
+        &updating::frequencies::PeakOptions {
+            min_prominence: 2.0,
+        },
+    );
+    let mut fe_err = Vec::new();
+    for res in &data.resonances {
+        if let Some(mp) = model_peaks.iter().min_by(|a, b| {
+            (a.frequency_hz - res.frequency_hz)
+                .abs()
+                .total_cmp(&(b.frequency_hz - res.frequency_hz).abs())
+        }) {
+            fe_err.push(100.0 * (mp.frequency_hz - res.frequency_hz).abs() / res.frequency_hz);
+        }
+    }
+    let mean = |v: &[f64]| {
+        if v.is_empty() {
+            f64::NAN
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        }
+    };
+    Ok(FitQuality {
+        sfdac_mean: mean(&sf),
+        sfdac_min: sf.iter().copied().fold(f64::NAN, f64::min),
+        freq_error_mean_pct: mean(&fe_err),
+        frf_error: if j0 > 0.0 { j / j0 } else { j },
+        frf_log_rms: if n > 0 {
+            (s / n as f64).sqrt()
+        } else {
+            f64::NAN
+        },
+        damping: describe_damping(d.damping()),
+    })
+}
+
+pub fn describe_damping(d: Damping) -> String {
+    match d {
+        Damping::None => "none".into(),
+        Damping::Modal { zeta } => format!("modal zeta = {}", sig(zeta)),
+        Damping::Rayleigh { alpha, beta } => {
+            format!(
+                "rayleigh alpha = {} 1/s, beta = {} s",
+                sig(alpha),
+                sig(beta)
+            )
+        }
+        Damping::Hysteretic { eta } => format!("hysteretic eta = {}", sig(eta)),
+    }
+}

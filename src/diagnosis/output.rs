@@ -1,0 +1,208 @@
+//! Files of a diagnosis: `diagnosis.json`, `diagnosed.deck`, `report.md`,
+//! each written atomically.
+
+use std::path::Path;
+
+use serde_json::{json, Map, Value};
+
+use super::{sig, Diagnosis, FitQuality};
+use crate::fsio::write_atomic;
+
+fn num(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
+}
+
+fn quality_json(q: &FitQuality) -> Value {
+    json!({
+        "sfdac_mean": num(q.sfdac_mean),
+        "sfdac_min": num(q.sfdac_min),
+        "freq_error_mean_pct": num(q.freq_error_mean_pct),
+        "frf_error": num(q.frf_error),
+        "frf_log_rms": num(q.frf_log_rms),
+        "damping": q.damping,
+    })
+}
+
+/// `diagnosis.json` as a value.
+pub fn diagnosis_json(d: &Diagnosis) -> Value {
+    let findings: Vec<Value> = d
+        .findings
+        .iter()
+        .map(|f| {
+            let params: Map<String, Value> = f
+                .parameters
+                .iter()
+                .map(|(k, v)| (k.clone(), num(*v)))
+                .collect();
+            let unc: Map<String, Value> = f
+                .uncertainty
+                .iter()
+                .map(|(k, v)| (k.clone(), num(*v)))
+                .collect();
+            json!({
+                "physics": f.physics.name(),
+                "nodes": f.nodes,
+                "dofs": f.dofs,
+                "parameters": params,
+                "uncertainty": unc,
+                "evidence": {
+                    "validation_error_before": num(f.validation_error_before),
+                    "validation_error_after": num(f.validation_error_after),
+                },
+                "description": f.label,
+                "indistinguishable_from": f.indistinguishable_from,
+            })
+        })
+        .collect();
+    let rejected: Vec<Value> = d
+        .rejected
+        .iter()
+        .map(|r| {
+            json!({
+                "hypothesis": r.label,
+                "round": r.round,
+                "value": r.value.map(num),
+                "validation_error": num(r.validation_error),
+                "reason": r.reason,
+            })
+        })
+        .collect();
+    json!({
+        "findings": findings,
+        "fit": {
+            "initial": quality_json(&d.initial),
+            "updated": quality_json(&d.updated),
+            "diagnosed": quality_json(&d.diagnosed),
+        },
+        "noise_level": num(d.noise_level),
+        "at_noise_level": d.at_noise_level,
+        "updated_parameters": d.updated_parameters,
+        "update": d.update_note,
+        "localisation": d.localisation.iter().map(|(n, s, l)| json!({"node": n, "score": num(*s), "best_candidate": l})).collect::<Vec<_>>(),
+        "rejected": rejected,
+        "channels": d.channels,
+        "ignored_channels": d.ignored_channels,
+        "model_evaluations": d.model_evaluations,
+    })
+}
+
+/// `report.md`: the diagnosis in plain words.
+pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
+    let mut s = String::new();
+    s.push_str("# Model diagnosis\n\n");
+    s.push_str(&format!(
+        "Model `{deck_name}` against test `{test_name}` ({} channels).\n\n",
+        d.channels.len()
+    ));
+    s.push_str("## What disagreed\n\n");
+    s.push_str("| model | SFDAC mean | SFDAC min | mean freq. error (%) | FRF error (1 = noise) | damping used |\n|---|---|---|---|---|---|\n");
+    for (name, q) in [
+        ("as given", &d.initial),
+        ("parameters updated", &d.updated),
+        ("diagnosed", &d.diagnosed),
+    ] {
+        s.push_str(&format!(
+            "| {name} | {:.4} | {:.4} | {:.3} | {:.2} | {} |\n",
+            q.sfdac_mean, q.sfdac_min, q.freq_error_mean_pct, q.frf_error, q.damping
+        ));
+    }
+    if let Some(n) = &d.update_note {
+        s.push_str(&format!("\nUpdating the deck's own parameters: {n}.\n"));
+    }
+    if !d.localisation.is_empty() {
+        s.push_str("\n## Where\n\nNodes where a small change of the model would remove most of the remaining FRF error (share of the error a probe removes):\n\n");
+        for (n, sc, l) in d.localisation.iter().take(6) {
+            s.push_str(&format!("- node {n}: {:.0} % ({l})\n", 100.0 * sc));
+        }
+    }
+    s.push_str("\n## Which physics explains it\n\n");
+    if d.findings.is_empty() {
+        s.push_str(
+            "Nothing is missing: the deck's own parameters explain the test to the noise level.\n",
+        );
+    }
+    for f in &d.findings {
+        let vals: Vec<String> = f
+            .parameters
+            .iter()
+            .map(|(k, v)| {
+                let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
+                format!("{k} = {} ± {}", sig(*v), sig(u))
+            })
+            .collect();
+        s.push_str(&format!(
+            "- **{}**: {}{}. Held-out prediction error {} → {}.\n",
+            f.physics.name(),
+            f.label,
+            if vals.is_empty() {
+                String::new()
+            } else {
+                format!(", {}", vals.join(", "))
+            },
+            sig(f.validation_error_before),
+            sig(f.validation_error_after)
+        ));
+        if !f.indistinguishable_from.is_empty() {
+            s.push_str(&format!(
+                "  The data cannot tell this apart from: {}.\n",
+                f.indistinguishable_from.join("; ")
+            ));
+        }
+    }
+    s.push_str(&format!(
+        "\n## How much the fit improved\n\nFRF error (mean squared weighted log error over all lines and channels above the noise floor, 1 = noise level): {:.2} as given, {:.2} after updating, {:.2} diagnosed. {}\n",
+        d.initial.frf_error,
+        d.updated.frf_error,
+        d.diagnosed.frf_error,
+        if d.at_noise_level {
+            "The diagnosed model explains the test to the noise level."
+        } else {
+            "Some disagreement remains above the noise level: physics outside the dictionary, or effects too weak to separate."
+        }
+    ));
+    if !d.rejected.is_empty() {
+        s.push_str("\n## Hypotheses tried and not accepted\n\n");
+        for r in &d.rejected {
+            s.push_str(&format!(
+                "- round {}: {}{}: {}\n",
+                r.round,
+                r.label,
+                r.value
+                    .map(|v| format!(" (value {})", sig(v)))
+                    .unwrap_or_default(),
+                r.reason
+            ));
+        }
+    }
+    s.push_str(&format!(
+        "\n{} model evaluations. The diagnosed model is in `diagnosed.deck`.\n",
+        d.model_evaluations
+    ));
+    s
+}
+
+/// Write `diagnosis.json`, `diagnosed.deck` and `report.md` into `dir`.
+pub fn write_outputs(
+    d: &Diagnosis,
+    dir: &Path,
+    deck_name: &str,
+    test_name: &str,
+) -> std::io::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    let json = serde_json::to_string_pretty(&diagnosis_json(d)).map_err(std::io::Error::other)?;
+    write_atomic(&dir.join("diagnosis.json"), format!("{json}\n").as_bytes())?;
+    let mut deck = String::from(
+        "# written by frfup diagnose: the updated deck with the accepted extensions\n",
+    );
+    deck.push_str(&frfup_parsers::deck::write(&d.diagnosed_deck));
+    write_atomic(&dir.join("diagnosed.deck"), deck.as_bytes())?;
+    write_atomic(
+        &dir.join("report.md"),
+        report_md(d, deck_name, test_name).as_bytes(),
+    )?;
+    Ok(())
+}

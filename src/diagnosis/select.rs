@@ -1,0 +1,379 @@
+//! Choosing extensions without over-fitting.
+//!
+//! Each candidate's parameter is fitted on all data (log grid, then golden
+//! section on the damping-profiled cost), then validated by blocked
+//! cross-validation: fit on alternate frequency blocks (8 blocks, 2 folds)
+//! and on alternate channels (2 folds), predict the held-out data. A
+//! candidate is accepted if its mean validation cost is lower than the
+//! current model's by more than the margin 3 %·V + 0.1·J0 (J0: noise level),
+//! its fit does not end on a bound and its uncertainty is below its value.
+//! Extensions are added greedily; the search stops when the cost is within
+//! 25 % of the noise level.
+
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
+use super::hypotheses::Hypothesis;
+use super::DiagnoseError;
+
+/// Fitted hypothesis (or the current model alone when `value` is `None` and
+/// the hypothesis has no parameter).
+#[derive(Clone, Debug)]
+pub struct HypFit {
+    /// Parameter value (SI) and its log.
+    pub value: Option<f64>,
+    pub log_value: Option<f64>,
+    pub damping: DampingState,
+    /// Mean squared weighted residual.
+    pub cost: f64,
+    /// Standard deviation of the parameter (SI) and of the damping log-parameters.
+    pub std: Option<f64>,
+    pub damping_std_log: Vec<f64>,
+    pub on_bound: bool,
+}
+
+/// Folds of the blocked cross-validation: (train, validate) masks.
+pub fn folds(data: &TestData) -> Vec<(Mask, Mask)> {
+    let all = Mask::all(data);
+    let nl = data.lines_hz.len();
+    let blocks = 8usize;
+    let mut out = Vec::new();
+    for parity in 0..2 {
+        let lines: Vec<bool> = (0..nl).map(|l| (l * blocks / nl) % 2 == parity).collect();
+        let train = Mask {
+            lines,
+            channels: all.channels.clone(),
+        };
+        let val = train.complement();
+        out.push((train, val));
+    }
+    let nc = data.channels.len();
+    if nc >= 4 {
+        for parity in 0..2 {
+            let train = Mask {
+                lines: all.lines.clone(),
+                channels: (0..nc).map(|c| c % 2 == parity).collect(),
+            };
+            let val = train.complement();
+            out.push((train, val));
+        }
+    }
+    out
+}
+
+/// The fitting engine over one test.
+pub struct Engine<'a> {
+    pub data: &'a TestData,
+    pub folds: Vec<(Mask, Mask)>,
+    pub all: Mask,
+    /// Model evaluations so far (eigen solutions).
+    pub evaluations: std::cell::Cell<usize>,
+}
+
+impl<'a> Engine<'a> {
+    pub fn new(data: &'a TestData) -> Self {
+        Engine {
+            data,
+            folds: folds(data),
+            all: Mask::all(data),
+            evaluations: std::cell::Cell::new(0),
+        }
+    }
+
+    pub fn model(&self, deck: &Deck) -> Result<ModalModel, DiagnoseError> {
+        self.evaluations.set(self.evaluations.get() + 1);
+        fit::modal_model(deck, self.data)
+    }
+
+    /// Damping-profiled cost at log-parameter `s` (or with no parameter).
+    fn profile(
+        &self,
+        hyp: Option<&Hypothesis>,
+        base: &Deck,
+        s: Option<f64>,
+        damp: &DampingState,
+        mask: &Mask,
+    ) -> Option<(f64, DampingState, ModalModel)> {
+        let deck = match hyp {
+            Some(h) => h.apply(base, s.map(f64::exp)),
+            None => base.clone(),
+        };
+        let mm = self.model(&deck).ok()?;
+        let (d, r) = fit::fit_damping(&mm, damp, self.data, mask, 10);
+        let c = fit::mean_sq(&r);
+        c.is_finite().then_some((c, d, mm))
+    }
+
+    /// Fit `hyp` (or only the damping of `base`) on `mask`. `bracket`: log
+    /// range searched (default the parameter's bounds) with `grid` points.
+    pub fn fit(
+        &self,
+        hyp: Option<&Hypothesis>,
+        base: &Deck,
+        damp: &DampingState,
+        mask: &Mask,
+        bracket: Option<(f64, f64)>,
+        grid: usize,
+        golden: usize,
+        with_std: bool,
+    ) -> Option<HypFit> {
+        let spec = hyp.and_then(|h| h.param.as_ref());
+        let Some(spec) = spec else {
+            let (cost, d, mm) = self.profile(hyp, base, None, damp, mask)?;
+            let damping_std_log = if with_std {
+                self.damping_std(&mm, &d, mask)
+            } else {
+                vec![]
+            };
+            return Some(HypFit {
+                value: None,
+                log_value: None,
+                damping: d,
+                cost,
+                std: None,
+                damping_std_log,
+                on_bound: false,
+            });
+        };
+        let (blo, bhi) = (spec.lo.ln(), spec.hi.ln());
+        let (lo, hi) = bracket
+            .map(|(a, b)| (a.max(blo), b.min(bhi)))
+            .unwrap_or((blo, bhi));
+        let g = grid.max(2);
+        let mut pts: Vec<(f64, f64, DampingState)> = Vec::new();
+        for i in 0..g {
+            let s = lo + (hi - lo) * i as f64 / (g - 1) as f64;
+            if let Some((c, d, _)) = self.profile(hyp, base, Some(s), damp, mask) {
+                pts.push((s, c, d));
+            }
+        }
+        let ibest = (0..pts.len()).min_by(|&a, &b| pts[a].1.total_cmp(&pts[b].1))?;
+        let step = (hi - lo) / (g - 1) as f64;
+        let (mut a, mut b) = (
+            (pts[ibest].0 - step).max(blo),
+            (pts[ibest].0 + step).min(bhi),
+        );
+        let mut best = pts[ibest].clone();
+        let phi = 0.5 * (5f64.sqrt() - 1.0);
+        let mut x1 = b - phi * (b - a);
+        let mut x2 = a + phi * (b - a);
+        let mut f1 = self.profile(hyp, base, Some(x1), &best.2, mask);
+        let mut f2 = self.profile(hyp, base, Some(x2), &best.2, mask);
+        for _ in 0..golden {
+            let c1 = f1.as_ref().map_or(f64::INFINITY, |v| v.0);
+            let c2 = f2.as_ref().map_or(f64::INFINITY, |v| v.0);
+            if c1 < best.1 {
+                best = (
+                    x1,
+                    c1,
+                    f1.as_ref().map(|v| v.1.clone()).unwrap_or(best.2.clone()),
+                );
+            }
+            if c2 < best.1 {
+                best = (
+                    x2,
+                    c2,
+                    f2.as_ref().map(|v| v.1.clone()).unwrap_or(best.2.clone()),
+                );
+            }
+            if c1 <= c2 {
+                b = x2;
+                x2 = x1;
+                f2 = f1;
+                x1 = b - phi * (b - a);
+                f1 = self.profile(hyp, base, Some(x1), &best.2, mask);
+            } else {
+                a = x1;
+                x1 = x2;
+                f1 = f2;
+                x2 = a + phi * (b - a);
+                f2 = self.profile(hyp, base, Some(x2), &best.2, mask);
+            }
+        }
+        for f in [&f1, &f2] {
+            if let Some(v) = f {
+                if v.0 < best.1 {
+                    best = (if std::ptr::eq(f, &f1) { x1 } else { x2 }, v.0, v.1.clone());
+                }
+            }
+        }
+        let (s, cost, d) = best;
+        let span = bhi - blo;
+        let on_bound = s - blo < 0.02 * span || bhi - s < 0.02 * span;
+        let (std, damping_std_log) = if with_std {
+            self.joint_std(hyp, base, s, &d, mask)
+                .unwrap_or((f64::INFINITY, vec![]))
+        } else {
+            (f64::NAN, vec![])
+        };
+        Some(HypFit {
+            value: Some(s.exp()),
+            log_value: Some(s),
+            damping: d,
+            cost,
+            std: Some(std * s.exp()),
+            damping_std_log,
+            on_bound,
+        })
+    }
+
+    fn damping_std(&self, mm: &ModalModel, d: &DampingState, mask: &Mask) -> Vec<f64> {
+        let r = fit::residuals(
+            &fit::predict(mm, d.damping(), self.data, mask),
+            self.data,
+            mask,
+        );
+        let form = d.form;
+        let mut f = |x: &[f64]| {
+            Some(fit::residuals(
+                &fit::predict(mm, form.damping(x), self.data, mask),
+                self.data,
+                mask,
+            ))
+        };
+        let big = vec![f64::INFINITY; d.x.len()];
+        let small = vec![f64::NEG_INFINITY; d.x.len()];
+        match fit::jacobian(&mut f, &d.x, &r, &small, &big) {
+            Some(j) => fit::std_devs(&j, &r),
+            None => vec![f64::INFINITY; d.x.len()],
+        }
+    }
+
+    /// Standard deviations from the joint Jacobian (log parameter, damping logs).
+    fn joint_std(
+        &self,
+        hyp: Option<&Hypothesis>,
+        base: &Deck,
+        s: f64,
+        d: &DampingState,
+        mask: &Mask,
+    ) -> Option<(f64, Vec<f64>)> {
+        let h = hyp?;
+        let mm = self.model(&h.apply(base, Some(s.exp()))).ok()?;
+        let r = fit::residuals(
+            &fit::predict(&mm, d.damping(), self.data, mask),
+            self.data,
+            mask,
+        );
+        let step = 1e-3;
+        let mm2 = self.model(&h.apply(base, Some((s + step).exp()))).ok()?;
+        let r2 = fit::residuals(
+            &fit::predict(&mm2, d.damping(), self.data, mask),
+            self.data,
+            mask,
+        );
+        if r2.len() != r.len() {
+            return None;
+        }
+        let mut cols = vec![r2
+            .iter()
+            .zip(&r)
+            .map(|(a, b)| (a - b) / step)
+            .collect::<Vec<f64>>()];
+        let form = d.form;
+        let mut f = |x: &[f64]| {
+            Some(fit::residuals(
+                &fit::predict(&mm, form.damping(x), self.data, mask),
+                self.data,
+                mask,
+            ))
+        };
+        let big = vec![f64::INFINITY; d.x.len()];
+        let small = vec![f64::NEG_INFINITY; d.x.len()];
+        cols.extend(fit::jacobian(&mut f, &d.x, &r, &small, &big)?);
+        let sd = fit::std_devs(&cols, &r);
+        Some((sd[0], sd[1..].to_vec()))
+    }
+
+    /// Mean validation cost over the folds: refit on each training mask
+    /// (around the full-data optimum), predict the held-out mask.
+    pub fn validate(&self, hyp: Option<&Hypothesis>, base: &Deck, full: &HypFit) -> f64 {
+        let mut sum = 0.0;
+        let mut n = 0usize;
+        for (train, val) in &self.folds {
+            let bracket = full.log_value.map(|s| (s - 0.7, s + 0.7));
+            let Some(f) = self.fit(hyp, base, &full.damping, train, bracket, 3, 5, false) else {
+                return f64::INFINITY;
+            };
+            let deck = match hyp {
+                Some(h) => h.apply(base, f.value),
+                None => base.clone(),
+            };
+            let Ok(mm) = self.model(&deck) else {
+                return f64::INFINITY;
+            };
+            let r = fit::residuals(
+                &fit::predict(&mm, f.damping.damping(), self.data, val),
+                self.data,
+                val,
+            );
+            sum += fit::mean_sq(&r);
+            n += 1;
+        }
+        if n == 0 {
+            full.cost
+        } else {
+            sum / n as f64
+        }
+    }
+
+    /// Validation cost with the damping held at `d` (no refit).
+    pub fn validate_fixed_damping(&self, base: &Deck, d: &DampingState) -> f64 {
+        let Ok(mm) = self.model(base) else {
+            return f64::INFINITY;
+        };
+        let mut sum = 0.0;
+        for (_, val) in &self.folds {
+            sum += fit::mean_sq(&fit::residuals(
+                &fit::predict(&mm, d.damping(), self.data, val),
+                self.data,
+                val,
+            ));
+        }
+        sum / self.folds.len().max(1) as f64
+    }
+
+    /// Noise level J0 of all data.
+    pub fn noise_level(&self) -> f64 {
+        fit::noise_level(self.data, &self.all)
+    }
+}
+
+/// Acceptance margin on the validation cost: 3 % of it plus 0.1·J0.
+pub fn margin(v: f64, j0: f64) -> f64 {
+    0.03 * v + 0.1 * j0
+}
+
+/// Choose the damping form on `base`: the deck's form (or modal) unless
+/// another form lowers the cost by more than the margin.
+pub fn choose_damping(
+    engine: &Engine,
+    base: &Deck,
+    deck_form: Option<(DampingForm, Vec<f64>)>,
+    zeta0: f64,
+) -> Option<(DampingState, Vec<(DampingForm, f64)>)> {
+    let w = engine.data.omegas.clone();
+    let wc = (w.first()? * w.last()?).sqrt();
+    let default_form = deck_form.as_ref().map_or(DampingForm::Modal, |d| d.0);
+    let mut results = Vec::new();
+    for form in super::hypotheses::damping::FORMS {
+        let start = match &deck_form {
+            Some((f, x)) if *f == form => x.clone(),
+            _ => form.start(zeta0, wc),
+        };
+        let st = DampingState { form, x: start };
+        if let Some(f) = engine.fit(None, base, &st, &engine.all, None, 0, 0, false) {
+            results.push((form, f.cost, f.damping));
+        }
+    }
+    let j0 = engine.noise_level();
+    let def = results.iter().find(|r| r.0 == default_form)?.clone();
+    let mut chosen = def.clone();
+    for r in &results {
+        if r.1 < chosen.1 - margin(def.1, j0) {
+            chosen = r.clone();
+        }
+    }
+    Some((chosen.2, results.iter().map(|r| (r.0, r.1)).collect()))
+}
