@@ -80,13 +80,43 @@ pub fn update_model(
     let n_ex = meas.len();
 
     // Measured resonances and updating frequencies (Eq. 42).
-    let peaks = pick_peaks(
+    let mut peaks = pick_peaks(
         &meas.lines_hz,
         &indicator(&meas.mobility),
         &PeakOptions {
             min_prominence: opts.min_prominence,
         },
     );
+    // A free-free model tested on a suspension: test resonances below half the
+    // first elastic natural frequency of the initial model are suspension
+    // (rigid-body) modes, which the FE model cannot reproduce; leave them out.
+    if !model0.has_fixed_dofs && !peaks.is_empty() {
+        let probe = lowest_modes(
+            &model0.stiffness,
+            &model0.mass,
+            &EigenOptions {
+                count: 12.min(model0.dofs.len()),
+                ..EigenOptions::default()
+            },
+        )
+        .map_err(UpdateError::Eigen)?;
+        let f = probe.frequencies_hz();
+        let f_last = f.last().copied().unwrap_or(0.0);
+        if let Some(&f_elastic) = f.iter().find(|&&x| x > 0.1 && x > 1e-3 * f_last) {
+            let suspension: Vec<f64> = peaks
+                .iter()
+                .map(|r| r.frequency_hz)
+                .filter(|&x| x < 0.5 * f_elastic)
+                .collect();
+            if !suspension.is_empty() {
+                peaks.retain(|r| r.frequency_hz >= 0.5 * f_elastic);
+                warnings.push(UpdateWarning::SuspensionModes {
+                    modes_hz: suspension,
+                    first_elastic_hz: f_elastic,
+                });
+            }
+        }
+    }
     let r_used = match opts.resonances {
         Some(r) => r.min(peaks.len()),
         None => peaks.len().min(n_ex).min(8),
@@ -138,8 +168,7 @@ pub fn update_model(
             });
         }
     }
-    let extra = (n_md / 2).max(4);
-    let n_eig = (n_md + extra).max(peaks.len() + 2).min(model0.dofs.len());
+    let n_eig = eigen_count(n_md, peaks.len(), model0.dofs.len());
 
     let mut records: Vec<IterationRecord> = Vec::new();
     let mut p_bar = vec![0.0; np];
@@ -400,6 +429,13 @@ pub fn update_model(
         warnings,
         options: opts.clone(),
     })
+}
+
+/// How many of the lowest modes are computed per iteration: the N_md of the
+/// basis plus max(N_md/2, 4) spare ones (invisible modes are skipped), and at
+/// least two more than the measured resonances (for pairing).
+pub fn eigen_count(n_md: usize, resonances: usize, dofs: usize) -> usize {
+    (n_md + (n_md / 2).max(4)).max(resonances + 2).min(dofs)
 }
 
 /// Index of the record with the highest SFDAC mean (earliest on ties).

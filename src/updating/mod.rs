@@ -209,6 +209,12 @@ pub enum UpdateWarning {
     DuplicateChannel { label: String },
     /// A candidate updating frequency was not used.
     SkippedFrequency(SkippedFrequency),
+    /// Test resonances of a free-free model below half its first elastic
+    /// frequency, taken as suspension modes and not used.
+    SuspensionModes {
+        modes_hz: Vec<f64>,
+        first_elastic_hz: f64,
+    },
     /// An updating frequency lies within 1 % of a natural frequency of the
     /// initial model (the paper's rule 2 advises against it).
     NearFeResonance { hz: f64, fe_hz: f64 },
@@ -261,6 +267,11 @@ impl fmt::Display for UpdateWarning {
             UpdateWarning::SkippedFrequency(s) => {
                 write!(f, "updating frequency {:.4} Hz skipped: {}", s.requested_hz, s.reason)
             }
+            UpdateWarning::SuspensionModes { modes_hz, first_elastic_hz } => write!(
+                f,
+                "test resonance(s) at {} Hz lie below half the first elastic frequency of the free-free model ({first_elastic_hz:.3} Hz): taken as suspension modes, not used",
+                modes_hz.iter().map(|x| format!("{x:.3}")).collect::<Vec<_>>().join(", ")
+            ),
             UpdateWarning::NearFeResonance { hz, fe_hz } => write!(
                 f,
                 "updating frequency {hz:.4} Hz is within 1 % of the initial model's natural frequency {fe_hz:.4} Hz"
