@@ -287,3 +287,38 @@ fn every_chart_renders_to_a_png() {
     }
     eprintln!("PNGs in {}", dir.display());
 }
+
+/// The GARTEUR-like campaign (26 channels, 20 parameters, free-free): a large
+/// report to look at. `cargo test --test report_render -- --ignored`.
+#[test]
+#[ignore = "slow: a full GARTEUR update"]
+fn garteur_report() {
+    let deck_text = std::fs::read_to_string(root().join("fixtures/garteur/garteur.deck")).unwrap();
+    let deck = parse(&deck_text).unwrap();
+    let test = frfup::testdata::load(&root().join("fixtures/garteur/campaign.uff")).unwrap();
+    let result = update(&deck, &test, &UpdateOptions::default()).unwrap();
+    let dir = out_dir("garteur");
+    let inputs = ReportInputs {
+        deck_path: "fixtures/garteur/garteur.deck".into(),
+        test_path: "fixtures/garteur/campaign.uff".into(),
+        title: None,
+        command: None,
+    };
+    let files = write_report(&dir, &result, &deck, &test, &inputs).unwrap();
+    if rsvg() {
+        for svg in files
+            .iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        {
+            let ok = Command::new("rsvg-convert")
+                .arg("--background-color=white")
+                .arg("-o")
+                .arg(svg.with_extension("png"))
+                .arg(svg)
+                .status()
+                .unwrap();
+            assert!(ok.success());
+        }
+    }
+    eprintln!("GARTEUR report in {}", dir.display());
+}

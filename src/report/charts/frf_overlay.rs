@@ -112,26 +112,29 @@ fn x_range(o: &FrfOverlay) -> (f64, f64) {
     }
 }
 
-/// Decades (integer log10 bounds) covering the magnitudes of `ch`, at most
-/// `max_decades` below the largest value.
-fn decades(ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
-    let logs: Vec<f64> = ch
+/// Decades (integer log10 bounds) covering the magnitudes of `ch` at lines
+/// above 0 Hz: from the 0.5 % quantile (single deep notches and the 0 Hz line
+/// do not stretch the axis) to above the largest value, at most `max_decades`.
+fn decades(o: &FrfOverlay, ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
+    let mut logs: Vec<f64> = ch
         .values
         .iter()
-        .flatten()
-        .map(|v| v.norm())
+        .flat_map(|series| series.iter().zip(&o.frequencies_hz))
+        .filter(|(_, f)| **f > 0.0)
+        .map(|(v, _)| v.norm())
         .filter(|m| *m > 0.0 && m.is_finite())
         .map(|m| m.log10())
         .collect();
-    match finite_range(&logs) {
-        None => (-1, 0),
-        Some((lo, hi)) => {
-            let top = hi.ceil() as i32;
-            let top = if top as f64 - hi < 0.05 { top + 1 } else { top };
-            let bottom = (lo.floor() as i32).max(top - max_decades).min(top - 1);
-            (bottom, top)
-        }
+    if logs.is_empty() {
+        return (-1, 0);
     }
+    logs.sort_by(f64::total_cmp);
+    let lo = logs[(logs.len() as f64 * 0.005) as usize];
+    let hi = logs[logs.len() - 1];
+    let top = hi.ceil() as i32;
+    let top = if top as f64 - hi < 0.05 { top + 1 } else { top };
+    let bottom = (lo.floor() as i32).max(top - max_decades).min(top - 1);
+    (bottom, top)
 }
 
 /// (f, y) points of one series, reduced to the extremes per pixel bucket when
@@ -336,7 +339,7 @@ pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError
     let (mag_h, phase_h) = (420, 250);
     let height = (th + lh + mag_h + phase_h + 10) as u32;
     let x = x_range(o);
-    let (d0, d1) = decades(ch, 8);
+    let (d0, d1) = decades(o, ch, 8);
     let floor = d0 as f64;
     let buckets = 2 * (WIDTH as usize - 110);
     let label_rows = resonance_label_rows(o, x, (88.0, WIDTH as f64 - 25.0));
@@ -464,7 +467,7 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
                 &bold(12.0).pos(Pos::new(HPos::Center, VPos::Top)),
                 (cw as i32 / 2 + 20, 4),
             )?;
-            let (d0, d1) = decades(ch, 7);
+            let (d0, d1) = decades(o, ch, 7);
             let y = (d0 as f64, d1 as f64);
             let mut chart = ChartBuilder::on(cell)
                 .margin_top(22)

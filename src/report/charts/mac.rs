@@ -95,7 +95,9 @@ fn geometry(c: &MacChart) -> Geometry {
         + 34;
     let panel_w = (WIDTH as i32 - BAR_W - 20) / np;
     let cell_w = ((panel_w - row_label_w - 16) / ncols).clamp(6, 60);
-    let cell_h = cell_w.clamp(12, 40).min((520 / nrows).max(12));
+    // Rows get their own height (≈ 300 px in all, 14–40 px each): narrow
+    // columns must not squash them.
+    let cell_h = (300 / nrows).clamp(14, 40).max(cell_w.min(40));
     let widest = c
         .panels
         .iter()
@@ -130,13 +132,13 @@ pub fn render(c: &MacChart) -> Result<String, ChartError> {
     let th = title_height(c.subtitle.is_some());
     let grid_top = th + 30;
     let grid_h = g.cell_h * nrows as i32;
-    let height = (grid_top + grid_h + g.col_label_h + 40).max(th + 300) as u32;
+    let height = (grid_top + grid_h.max(120) + g.col_label_h + 40) as u32;
     super::svg((WIDTH, height), |root| {
         draw_title(root, &c.title, c.subtitle.as_deref())?;
         for (k, p) in c.panels.iter().enumerate() {
             draw_panel(root, c, p, &g, 10 + k as i32 * g.panel_w, grid_top)?;
         }
-        draw_color_bar(root, WIDTH as i32 - BAR_W + 10, grid_top, grid_h.max(200))?;
+        draw_color_bar(root, WIDTH as i32 - BAR_W + 10, grid_top, grid_h.max(120))?;
         Ok(())
     })
 }
