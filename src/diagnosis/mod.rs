@@ -212,6 +212,35 @@ pub fn diagnose(
             Err(e) => update_note = Some(format!("update failed ({e}); deck values kept")),
         }
     }
+    // Polish the deck's parameters on all lines and channels (the paper's
+    // update uses a few updating frequencies only).
+    if !opts.skip_update && !deck.params.is_empty() {
+        if let Some(f0) = engine.fit(
+            None,
+            &updated_deck,
+            &start_damping,
+            &engine.all,
+            None,
+            0,
+            0,
+            false,
+        ) {
+            if let Some((values, _, c)) = fit::fit_deck_parameters(
+                deck,
+                &updated_parameters,
+                &f0.damping,
+                &data,
+                &engine.all,
+                8,
+                &engine.evaluations,
+            ) {
+                if c < f0.cost {
+                    updated_deck = model::updated_deck(deck, &values);
+                    updated_parameters = values;
+                }
+            }
+        }
+    }
     // Keep the update only if it does not worsen the damping-profiled fit.
     let c_init = engine
         .fit(None, deck, &start_damping, &engine.all, None, 0, 0, false)
@@ -238,14 +267,179 @@ pub fn diagnose(
     }
     let updated = quality(&engine, &updated_deck, &start_damping)?;
 
-    // 2.–4. Damping form, then greedy extensions.
-    let (mut damp, _forms) =
-        select::choose_damping(&engine, &updated_deck, deck_form.clone(), zeta0)
-            .ok_or_else(|| DiagnoseError::Eigen("the updated model gives no usable FRF".into()))?;
-    let mut current = updated_deck.clone();
-    let base_fit = engine
-        .fit(None, &current, &damp, &engine.all, None, 0, 0, false)
-        .ok_or_else(|| DiagnoseError::Eigen("the updated model gives no usable FRF".into()))?;
+    // 2.–4. Greedy extensions, from the updated deck and (if the update
+    // changed it) from the deck as given: an update can absorb missing
+    // physics into the deck's parameters. After extensions are found, the
+    // deck's parameters are updated again on the extended deck.
+    let mut starts = vec![updated_deck.clone()];
+    if updated_deck != *deck {
+        starts.push(deck.clone());
+    }
+    let mut best: Option<Greedy> = None;
+    for start in &starts {
+        let Some(mut g) = greedy(&engine, start, deck_form.clone(), zeta0, j0, opts)? else {
+            continue;
+        };
+        if !opts.skip_update && !deck.params.is_empty() && !g.accepted.is_empty() {
+            let mut ext = deck.clone();
+            for (h, v) in &g.accepted {
+                ext = h.apply(&ext, *v);
+            }
+            let paper = updating::update(&ext, test, &opts.update)
+                .map(|r| r.parameter_values())
+                .unwrap_or_default();
+            let polished = fit::fit_deck_parameters(
+                &ext,
+                &paper,
+                &g.damp,
+                &data,
+                &engine.all,
+                8,
+                &engine.evaluations,
+            )
+            .map(|(v, _, _)| v);
+            if let Some(values) = polished {
+                let cand = model::updated_deck(&ext, &values);
+                if let Some(f) = engine.fit(None, &cand, &g.damp, &engine.all, None, 0, 0, false) {
+                    if f.cost < g.cost {
+                        g.current = cand;
+                        g.damp = f.damping.clone();
+                        g.cost = f.cost;
+                        g.v = engine.validate(None, &g.current, &f);
+                        g.parameters = Some(values);
+                    }
+                }
+            }
+        }
+        let better = match &best {
+            None => true,
+            Some(b) => g.v < b.v - select::margin(b.v, j0),
+        };
+        if better {
+            best = Some(g);
+        }
+    }
+    let Some(g) = best else {
+        return Err(DiagnoseError::Eigen(
+            "the updated model gives no usable FRF".into(),
+        ));
+    };
+    let Greedy {
+        findings: mut_findings,
+        current,
+        mut damp,
+        rejected,
+        localisation,
+        parameters,
+        ..
+    } = g;
+    let mut findings = mut_findings;
+    if let Some(p) = parameters {
+        updated_parameters = p;
+    }
+    // Damping: a finding when the deck has none, or when the fitted damping
+    // predicts held-out data better than the deck's.
+    let final_fit = engine
+        .fit(None, &current, &damp, &engine.all, None, 0, 0, true)
+        .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
+    damp = final_fit.damping.clone();
+    let v_fitted = engine.validate(None, &current, &final_fit);
+    let damping_finding = match &deck_form {
+        None => Some(f64::INFINITY),
+        Some((form, x)) => {
+            let deck_state = DampingState {
+                form: *form,
+                x: x.clone(),
+            };
+            let v_deck = engine.validate_fixed_damping(&current, &deck_state);
+            (v_fitted < v_deck - select::margin(v_deck, j0)).then_some(v_deck)
+        }
+    };
+    if let Some(before) = damping_finding {
+        let mut parameters = BTreeMap::new();
+        let mut uncertainty = BTreeMap::new();
+        for (i, name) in damp.form.parameter_names().iter().enumerate() {
+            let x = damp.x[i].exp();
+            parameters.insert(name.to_string(), x);
+            let s = final_fit
+                .damping_std_log
+                .get(i)
+                .copied()
+                .unwrap_or(f64::INFINITY);
+            uncertainty.insert(name.to_string(), s * x);
+        }
+        findings.insert(
+            0,
+            Finding {
+                physics: Physics::Damping,
+                nodes: vec![],
+                dofs: vec![],
+                parameters,
+                uncertainty,
+                validation_error_before: before,
+                validation_error_after: v_fitted,
+                label: format!("{} damping", damp.form.name()),
+                indistinguishable_from: vec![],
+            },
+        );
+    }
+    let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
+    // Round trip through the writer so the deck is exactly what a file gives.
+    let text = frfup_parsers::deck::write(&diagnosed_deck);
+    diagnosed_deck = frfup_parsers::deck::parse(&text).map_err(|e| {
+        DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
+    })?;
+    let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
+    let at_noise_level = final_fit.cost <= 1.25 * j0;
+    Ok(Diagnosis {
+        findings,
+        initial,
+        updated,
+        diagnosed,
+        diagnosed_deck,
+        updated_parameters,
+        update_note,
+        noise_level: j0,
+        localisation,
+        rejected,
+        channels: data.channels.iter().map(|c| c.label.clone()).collect(),
+        ignored_channels,
+        model_evaluations: engine.evaluations.get(),
+        at_noise_level,
+    })
+}
+
+/// Outcome of one greedy search.
+struct Greedy {
+    findings: Vec<Finding>,
+    accepted: Vec<(Hypothesis, Option<f64>)>,
+    current: Deck,
+    damp: DampingState,
+    cost: f64,
+    v: f64,
+    rejected: Vec<Rejected>,
+    localisation: Vec<(u32, f64, String)>,
+    /// Deck parameters re-updated on the extended deck.
+    parameters: Option<ParameterValues>,
+}
+
+/// Greedy search from `start`: damping form, then extensions one at a time.
+fn greedy(
+    engine: &Engine,
+    start: &Deck,
+    deck_form: Option<(DampingForm, Vec<f64>)>,
+    zeta0: f64,
+    j0: f64,
+    opts: &DiagnoseOptions,
+) -> Result<Option<Greedy>, DiagnoseError> {
+    let data = engine.data;
+    let Some((mut damp, _forms)) = select::choose_damping(engine, start, deck_form, zeta0) else {
+        return Ok(None);
+    };
+    let Some(base_fit) = engine.fit(None, start, &damp, &engine.all, None, 0, 0, false) else {
+        return Ok(None);
+    };
+    let mut current = start.clone();
     damp = base_fit.damping.clone();
     let mut cost = base_fit.cost;
     let mut v_cur = engine.validate(None, &current, &base_fit);
@@ -253,11 +447,12 @@ pub fn diagnose(
     let mut rejected = Vec::new();
     let mut localisation = Vec::new();
     let mut used_labels: Vec<String> = Vec::new();
+    let mut accepted_list: Vec<(Hypothesis, Option<f64>)> = Vec::new();
     for round in 0..opts.max_findings {
         if cost <= 1.25 * j0 {
             break;
         }
-        let step = search_round(&engine, &current, &damp, &data, opts, &used_labels)?;
+        let step = search_round(engine, &current, &damp, data, opts, &used_labels)?;
         if round == 0 {
             localisation = step.localisation.clone();
         }
@@ -337,82 +532,24 @@ pub fn diagnose(
             indistinguishable_from: alternatives,
         });
         used_labels.push(h.label.clone());
+        accepted_list.push((h.clone(), f.value));
         current = h.apply(&current, f.value);
         damp = f.damping.clone();
         cost = f.cost;
         v_cur = v;
     }
 
-    // Damping: a finding when the deck has none, or when the fitted damping
-    // predicts held-out data better than the deck's.
-    let final_fit = engine
-        .fit(None, &current, &damp, &engine.all, None, 0, 0, true)
-        .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
-    damp = final_fit.damping.clone();
-    let v_fitted = engine.validate(None, &current, &final_fit);
-    let damping_finding = match &deck_form {
-        None => Some(f64::INFINITY),
-        Some((form, x)) => {
-            let deck_state = DampingState {
-                form: *form,
-                x: x.clone(),
-            };
-            let v_deck = engine.validate_fixed_damping(&current, &deck_state);
-            (v_fitted < v_deck - select::margin(v_deck, j0)).then_some(v_deck)
-        }
-    };
-    if let Some(before) = damping_finding {
-        let mut parameters = BTreeMap::new();
-        let mut uncertainty = BTreeMap::new();
-        for (i, name) in damp.form.parameter_names().iter().enumerate() {
-            let x = damp.x[i].exp();
-            parameters.insert(name.to_string(), x);
-            let s = final_fit
-                .damping_std_log
-                .get(i)
-                .copied()
-                .unwrap_or(f64::INFINITY);
-            uncertainty.insert(name.to_string(), s * x);
-        }
-        findings.insert(
-            0,
-            Finding {
-                physics: Physics::Damping,
-                nodes: vec![],
-                dofs: vec![],
-                parameters,
-                uncertainty,
-                validation_error_before: before,
-                validation_error_after: v_fitted,
-                label: format!("{} damping", damp.form.name()),
-                indistinguishable_from: vec![],
-            },
-        );
-    }
-    let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
-    // Round trip through the writer so the deck is exactly what a file gives.
-    let text = frfup_parsers::deck::write(&diagnosed_deck);
-    diagnosed_deck = frfup_parsers::deck::parse(&text).map_err(|e| {
-        DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
-    })?;
-    let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
-    let at_noise_level = final_fit.cost <= 1.25 * j0;
-    Ok(Diagnosis {
+    Ok(Some(Greedy {
         findings,
-        initial,
-        updated,
-        diagnosed,
-        diagnosed_deck,
-        updated_parameters,
-        update_note,
-        noise_level: j0,
-        localisation,
+        accepted: accepted_list,
+        current,
+        damp,
+        cost,
+        v: v_cur,
         rejected,
-        channels: data.channels.iter().map(|c| c.label.clone()).collect(),
-        ignored_channels,
-        model_evaluations: engine.evaluations.get(),
-        at_noise_level,
-    })
+        localisation,
+        parameters: None,
+    }))
 }
 
 /// Number with 4 significant digits.
@@ -525,9 +662,10 @@ fn search_round(
         Physics::JointFlexibility,
         Physics::AddedMass,
     ] {
-        if let Some(&i) = main_order
+        for &i in main_order
             .iter()
-            .find(|&&i| candidates[i].physics == class && probes[i].score > 0.0)
+            .filter(|&&i| candidates[i].physics == class && probes[i].score > 0.0)
+            .take(2)
         {
             if !chosen.iter().any(|c| c.label == candidates[i].label) {
                 chosen.push(candidates[i].clone());
@@ -543,7 +681,6 @@ fn search_round(
                 dirs.push(d);
             }
         }
-        let mut best_dir: Option<(f64, Vec<u32>, frfup_parsers::deck::DeckDof)> = None;
         for d in dirs {
             let set: Vec<&localise::Probe> = (n_main..candidates.len())
                 .filter(|&i| candidates[i].dofs[0] == d)
@@ -557,19 +694,10 @@ fn search_round(
                 .iter()
                 .map(|&k| candidates[set[k].index].nodes[0])
                 .collect();
-            let sum: Vec<f64> = (0..r0.len())
-                .map(|j| picked.iter().map(|&k| set[k].delta[j]).sum())
-                .collect();
-            let red = localise::reduction(&r0, &sum);
             let dof = match &candidates[set[0].index].extension {
                 hypotheses::Extension::GroundSprings { dof, .. } => *dof,
                 _ => continue,
             };
-            if best_dir.as_ref().is_none_or(|b| red > b.0) {
-                best_dir = Some((red, nodes, dof));
-            }
-        }
-        if let Some((_, nodes, dof)) = best_dir {
             for k in 1..=nodes.len() {
                 let mut set = nodes[..k].to_vec();
                 set.sort_unstable();
@@ -602,7 +730,7 @@ fn search_round(
             .map_or(f64::INFINITY, |f| f.cost),
     );
     let mut validated = Vec::new();
-    for (h, f) in fitted.into_iter().take(4) {
+    for (h, f) in fitted.into_iter().take(5) {
         if !(f.cost < base_cost * 0.97) {
             continue;
         }

@@ -1,0 +1,130 @@
+//! `frfup diagnose` on simulated cases (fixtures/diagnose, made by
+//! scripts/gen_diagnose_fixtures.sh with 1 % noise): the right class at the
+//! right place, fitted values near the truth, a fit at the noise level after
+//! diagnosis, and no findings when only the deck's parameters are wrong.
+
+use std::path::Path;
+
+use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis, Finding};
+
+fn run(case: &str) -> Diagnosis {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/diagnose");
+    let text = std::fs::read_to_string(dir.join(format!("{case}.deck"))).unwrap();
+    let deck = frfup::parsers::deck::parse(&text).unwrap();
+    let test = frfup::testdata::load(&dir.join(format!("{case}.uff"))).unwrap();
+    let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
+    // The diagnosed deck is a valid deck that builds.
+    let written = frfup::parsers::deck::write(&d.diagnosed_deck);
+    let back = frfup::parsers::deck::parse(&written).unwrap();
+    frfup::model::build(&back, &Default::default()).unwrap();
+    d
+}
+
+fn structural(d: &Diagnosis) -> Vec<&Finding> {
+    d.findings
+        .iter()
+        .filter(|f| f.physics.name() != "damping")
+        .collect()
+}
+
+fn param(f: &Finding, name: &str) -> f64 {
+    f.parameters[name]
+}
+
+fn within(x: f64, truth: f64, rel: f64) -> bool {
+    (x - truth).abs() <= rel * truth
+}
+
+fn at_noise_level(d: &Diagnosis) {
+    assert!(
+        d.diagnosed.frf_error < 1.5,
+        "FRF error after diagnosis {} (1 = noise)",
+        d.diagnosed.frf_error
+    );
+}
+
+#[test]
+fn sensor_mass_on_the_four_accelerometers() {
+    let d = run("sensor_mass");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "sensor-mass");
+    assert_eq!(s[0].nodes, vec![3, 5, 7, 9]);
+    let m = param(s[0], "m");
+    assert!(within(m, 0.025, 0.2), "m = {m}");
+    at_noise_level(&d);
+}
+
+#[test]
+fn flexible_clamp_in_rotation() {
+    let d = run("support");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "support-flexibility");
+    assert_eq!(
+        (s[0].nodes.clone(), s[0].dofs.clone()),
+        (vec![1], vec!["ry".to_string()])
+    );
+    let k = param(s[0], "k");
+    assert!(k > 100.0 && k < 400.0, "k = {k}");
+    at_noise_level(&d);
+}
+
+#[test]
+fn missing_damping() {
+    let d = run("damping");
+    assert!(structural(&d).is_empty(), "{:?}", d.findings);
+    let f = d
+        .findings
+        .iter()
+        .find(|f| f.physics.name() == "damping")
+        .unwrap();
+    let z = f.parameters.get("zeta").copied().unwrap_or(f64::NAN);
+    assert!(within(z, 0.02, 0.3), "zeta = {z}");
+    at_noise_level(&d);
+}
+
+#[test]
+fn added_mass_between_sensors() {
+    let d = run("added_mass");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "added-mass");
+    assert_eq!(s[0].nodes, vec![6]);
+    let m = param(s[0], "m");
+    assert!(within(m, 0.12, 0.2), "m = {m}");
+    at_noise_level(&d);
+}
+
+#[test]
+fn flexible_frame_corner() {
+    let d = run("joint");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "joint-flexibility");
+    assert_eq!(
+        (s[0].nodes.clone(), s[0].dofs.clone()),
+        (vec![4], vec!["ry".to_string()])
+    );
+    let k = param(s[0], "k");
+    assert!(k > 75.0 && k < 300.0, "k = {k}");
+    at_noise_level(&d);
+}
+
+#[test]
+fn stocky_beam_needs_shear_deformation() {
+    let d = run("shear");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "shear-deformation");
+    at_noise_level(&d);
+}
+
+#[test]
+fn controls_only_parameters_wrong() {
+    for case in ["control_beam", "control_portal"] {
+        let d = run(case);
+        assert!(d.findings.is_empty(), "{case}: {:?}", d.findings);
+        at_noise_level(&d);
+    }
+}
