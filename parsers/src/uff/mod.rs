@@ -5,7 +5,11 @@
 //!
 //! Reading: [`parse`] splits the file into dataset blocks (`split`), then
 //! parses the blocks on up to `available_parallelism` threads; the result and
-//! the first error (in file order) do not depend on the threading. Datasets
+//! the first error (in file order) do not depend on the threading.
+//! [`parse_reader`] / [`parse_file`] stream (`stream`): bounded chunks cut at
+//! dataset boundaries, parsed by workers while reading goes on, text dropped
+//! once parsed; same result as [`parse`]. Data fields in the usual fixed
+//! formats take an exact fast path (`number`). Datasets
 //! read: 58/58b (`function58`), 151, 164 (`units`), 15, 2411, 18, 2420, 82
 //! (`geometry`), 55, 1858 (`other`); 2412, 2414 and unknown numbers are kept
 //! as [`OtherKind::Skipped`] with a note. Writing: [`write_functions`] (`write`).
