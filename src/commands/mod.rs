@@ -49,7 +49,7 @@ impl std::fmt::Display for CommandError {
 impl std::error::Error for CommandError {}
 
 /// Read and parse a UFF file, streaming (bounded memory, parsing on all
-/// cores while reading; a spinner on a terminal for large files); errors
+/// cores while reading; a byte bar on a terminal for large files); errors
 /// name the file.
 pub fn read_uff(
     path: &std::path::Path,
@@ -59,12 +59,11 @@ pub fn read_uff(
         |e: std::io::Error| CommandError::input(format!("{}: cannot read: {e}", path.display()));
     let file = std::fs::File::open(path).map_err(cannot_read)?;
     let len = file.metadata().map_or(0, |m| m.len());
-    let spinner = progress.spinner(
-        format!("reading {}", path.display()),
-        usize::try_from(len).unwrap_or(usize::MAX),
-    );
-    let parsed = frfup_parsers::uff::parse_reader(file);
-    spinner.finish();
+    let reader = progress::ProgressReader::new(file, len, &path.display().to_string(), progress);
+    // The parser streams: the bar advances as bytes are parsed, not just read.
+    let mut reader = reader;
+    let parsed = frfup_parsers::uff::parse_reader(&mut reader);
+    reader.finish();
     parsed.map_err(|e| CommandError::input(format!("{}: {e}", path.display())))
 }
 

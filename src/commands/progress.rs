@@ -2,7 +2,6 @@
 //! when output is not a terminal, in CI (`CI=true`), or with `--quiet`.
 
 use std::io::{IsTerminal, Read};
-use std::path::Path;
 
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -29,57 +28,45 @@ impl Progress {
     pub fn hidden() -> Self {
         Progress { enabled: false }
     }
-
-    /// A spinner for a phase of unknown length, shown only for large inputs.
-    pub fn spinner(&self, message: String, input_bytes: usize) -> Spinner {
-        if !self.enabled || (input_bytes as u64) < LARGE_FILE_BYTES {
-            return Spinner(None);
-        }
-        let bar = ProgressBar::new_spinner();
-        bar.set_message(message);
-        bar.enable_steady_tick(std::time::Duration::from_millis(120));
-        Spinner(Some(bar))
-    }
 }
 
-/// A running spinner; `finish` clears it.
-pub struct Spinner(Option<ProgressBar>);
+/// A reader that advances a byte bar (on a terminal, for large inputs) as it is read.
+pub struct ProgressReader<R> {
+    inner: R,
+    bar: Option<ProgressBar>,
+}
 
-impl Spinner {
-    pub fn finish(self) {
-        if let Some(bar) = self.0 {
+impl<R: Read> ProgressReader<R> {
+    /// Wrap `inner`, whose total size is `len` bytes, labelled `label`.
+    pub fn new(inner: R, len: u64, label: &str, progress: Progress) -> Self {
+        let bar = (progress.enabled && len >= LARGE_FILE_BYTES).then(|| {
+            let bar = ProgressBar::new(len);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "reading {msg} {bar:40} {bytes}/{total_bytes} {bytes_per_sec}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            bar.set_message(label.to_string());
+            bar
+        });
+        ProgressReader { inner, bar }
+    }
+
+    /// Clear the bar.
+    pub fn finish(&self) {
+        if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
     }
 }
 
-/// Read a file whole, with a byte bar for large files on a terminal.
-pub fn read_with_progress(path: &Path, progress: Progress) -> std::io::Result<Vec<u8>> {
-    let mut file = std::fs::File::open(path)?;
-    let len = file.metadata().map(|m| m.len()).unwrap_or(0);
-    if !progress.enabled || len < LARGE_FILE_BYTES {
-        let mut bytes = Vec::with_capacity(len as usize);
-        file.read_to_end(&mut bytes)?;
-        return Ok(bytes);
-    }
-    let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "reading {msg} {bar:40} {bytes}/{total_bytes} {bytes_per_sec}",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
-    bar.set_message(path.display().to_string());
-    let mut bytes = Vec::with_capacity(len as usize);
-    let mut chunk = vec![0u8; 4 << 20];
-    loop {
-        let n = file.read(&mut chunk)?;
-        if n == 0 {
-            break;
+impl<R: Read> Read for ProgressReader<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        if let Some(bar) = &self.bar {
+            bar.inc(n as u64);
         }
-        bytes.extend_from_slice(&chunk[..n]);
-        bar.inc(n as u64);
+        Ok(n)
     }
-    bar.finish_and_clear();
-    Ok(bytes)
 }
