@@ -112,8 +112,8 @@ pub fn pair_modes(
             used[e] = true;
         }
     }
-    for t in 0..test_shapes.len() {
-        if out[t].is_some() {
+    for (t, slot) in out.iter_mut().enumerate() {
+        if slot.is_some() {
             continue;
         }
         let best = cands
@@ -121,7 +121,7 @@ pub fn pair_modes(
             .filter(|c| c.2 == t && !used[c.3] && c.0 >= 0.5 * mac_min)
             .min_by(|a, b| a.1.total_cmp(&b.1).then(a.3.cmp(&b.3)));
         if let Some(&(m, _, _, e)) = best {
-            out[t] = Some(ModePair {
+            *slot = Some(ModePair {
                 test: t,
                 fe: e,
                 mac: m,

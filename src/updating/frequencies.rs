@@ -297,7 +297,7 @@ impl UpdatingFrequencies {
     }
 
     fn finish(&mut self) {
-        self.frequencies.sort_by(|a, b| a.line.cmp(&b.line));
+        self.frequencies.sort_by_key(|a| a.line);
     }
 
     pub fn len(&self) -> usize {

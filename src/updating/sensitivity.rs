@@ -329,8 +329,15 @@ mod tests {
         let w = 0.5 * modes.omega2[1].sqrt() + 0.5 * modes.omega2[2].sqrt();
         let h0 = basis.modal_receptance(w * w).unwrap();
         let hbar: Vec<f64> = (0..4).map(|e| h0[(e, 3)]).collect();
-        let eqs =
-            frf_equations(&basis, &sens, &[w], &[hbar.clone()], 3, InverseMethod::Svd).unwrap();
+        let eqs = frf_equations(
+            &basis,
+            &sens,
+            &[w],
+            std::slice::from_ref(&hbar),
+            3,
+            InverseMethod::Svd,
+        )
+        .unwrap();
         assert!(eqs.b.iter().all(|x| x.abs() < 1e-12));
         // Exact relation Eq. 4: H_n ΔZ h̄ = h_n − h̄ for h̄ the FRF of the perturbed model.
         let dp = 1e-3;
@@ -340,8 +347,15 @@ mod tests {
         let b2 = SerepBasis::select(&h2, &all, 4, 1e-6).unwrap();
         let hp = b2.modal_receptance(w * w).unwrap();
         let hbar2: Vec<f64> = (0..4).map(|e| hp[(e, 3)]).collect();
-        let eqs2 =
-            frf_equations(&basis, &sens, &[w], &[hbar2.clone()], 3, InverseMethod::Svd).unwrap();
+        let eqs2 = frf_equations(
+            &basis,
+            &sens,
+            &[w],
+            std::slice::from_ref(&hbar2),
+            3,
+            InverseMethod::Svd,
+        )
+        .unwrap();
         for e in 0..4 {
             let lhs = eqs2.a[(e, 1)] * dp;
             assert!(
