@@ -60,6 +60,15 @@ fn signed(v: f64, d: usize) -> String {
     }
 }
 
+/// A step scale: 3 decimals, or 3 significant digits when small.
+fn scale(v: f64) -> String {
+    if v.is_finite() && v != 0.0 && v.abs() < 0.01 {
+        format!("{v:.2e}")
+    } else {
+        fx(v, 3)
+    }
+}
+
 const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222;line-height:1.4}\
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
@@ -465,7 +474,7 @@ fn parameters_table(s: &mut String, result: &UpdateResult) {
                 format!("{} / {}", r.rank, result.parameter_names.len())
             },
             cond,
-            fx(r.step_scale, 3)
+            scale(r.step_scale)
         );
     }
     s.push_str("</table>\n<p class=\"muted\">p̄: relative change of each parameter from its deck value (dimensionless); the highlighted row is the returned model.</p>\n");

@@ -70,7 +70,7 @@ pub fn render(c: &ConvergenceChart) -> Result<String, ChartError> {
         sfdac_entries.push(LegendEntry::new(
             format!("returned model (iteration {s})"),
             GREY,
-            Swatch::VMark,
+            Swatch::VMark { dashed: true },
         ));
     }
     let w = WIDTH as i32 - 40;

@@ -84,8 +84,9 @@ fn legend_entries(o: &FrfOverlay) -> Vec<LegendEntry> {
     if !o.marks_hz.is_empty() {
         e.push(LegendEntry::new(
             o.mark_label.clone(),
-            mark_color(),
-            Swatch::VMark,
+            // The translucent mark colour as seen on white.
+            RGBColor(115, 202, 178),
+            Swatch::VMark { dashed: false },
         ));
     }
     if !o.resonances.is_empty() {
@@ -100,6 +101,16 @@ fn legend_entries(o: &FrfOverlay) -> Vec<LegendEntry> {
 
 fn mark_color() -> RGBColor {
     RGBColor(0, 158, 115)
+}
+
+/// A marked frequency: a thin translucent solid line (one SVG element, where
+/// a dashed line would be hundreds).
+fn mark_line(chart: &mut Chart2d, f: f64, (y0, y1): (f64, f64)) -> Result<(), ChartError> {
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(f, y0), (f, y1)],
+        mark_color().mix(0.55).stroke_width(1),
+    )))?;
+    Ok(())
 }
 
 /// The x range of the overlay (Hz); never empty.
@@ -279,7 +290,7 @@ fn draw_marks(
     let x = chart.x_range();
     for &f in &o.marks_hz {
         if f.is_finite() && f >= x.start && f <= x.end {
-            super::vline(chart, f, y, mark_color())?;
+            mark_line(chart, f, y)?;
         }
     }
     let visible: Vec<&ResonanceMark> = o
@@ -406,7 +417,7 @@ pub fn render_channel(o: &FrfOverlay, index: usize) -> Result<String, ChartError
         )?;
         for &f in &o.marks_hz {
             if f.is_finite() && f >= x.0 && f <= x.1 {
-                super::vline(&mut chart, f, q, mark_color())?;
+                mark_line(&mut chart, f, q)?;
             }
         }
         for (s, vals) in ch.values.iter().enumerate() {
@@ -448,7 +459,7 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
     let height = th as u32 + lh as u32 + rows as u32 * cell_h + 10;
     let x = x_range(o);
     let cell_w = width as usize / cols;
-    let buckets = 2 * cell_w;
+    let buckets = cell_w / 2;
     super::svg((width, height), |root| {
         draw_title(root, &o.title, o.subtitle.as_deref())?;
         let (_, rest) = root.split_vertically(th);

@@ -150,8 +150,10 @@ pub(crate) enum Swatch {
     LineMarker(Marker),
     Marker(Marker),
     Bar,
-    /// A thin vertical dashed line (frequency marks).
-    VMark,
+    /// A vertical line (frequency marks, the returned iteration).
+    VMark {
+        dashed: bool,
+    },
 }
 
 #[derive(Clone, Debug)]
@@ -305,7 +307,13 @@ pub(crate) fn draw_legend(area: &Area, entries: &[LegendEntry]) -> Result<(), Ch
                     [(x0 + 4, y - 6), (x1 - 4, y + 6)],
                     e.color.filled(),
                 ))?,
-                Swatch::VMark => {
+                Swatch::VMark { dashed: false } => {
+                    area.draw(&PathElement::new(
+                        vec![(xm, y - 8), (xm, y + 8)],
+                        e.color.stroke_width(2),
+                    ))?;
+                }
+                Swatch::VMark { dashed: true } => {
                     for k in 0..3 {
                         let yy = y - 8 + k * 6;
                         area.draw(&PathElement::new(
