@@ -177,6 +177,10 @@ struct UpdateArgs {
     /// Add the natural-frequency equations (Eq. 16-22).
     #[arg(long)]
     with_frequencies: bool,
+    /// First bring the paired resonances within 1 % by the natural-frequency
+    /// equations alone, then update from FRFs (for initial models far from the test).
+    #[arg(long)]
+    frequencies_first: bool,
     /// How the reduced dynamic stiffness is inverted.
     #[arg(long, value_enum, default_value = "svd")]
     inverse: Inverse,
@@ -201,6 +205,7 @@ impl UpdateArgs {
             resonances: self.resonances,
             offset: self.offset,
             with_frequencies: self.with_frequencies,
+            frequencies_first: self.frequencies_first,
             svd_eps: self.svd_eps,
             tol: self.tol,
             max_iter: self.max_iter,

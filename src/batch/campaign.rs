@@ -167,7 +167,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     let what = format!("case #{} ({name})", index + 1);
     let model = base.join(string("model")?);
     let test = base.join(string("test")?);
-    const KNOWN: [&str; 17] = [
+    const KNOWN: [&str; 18] = [
         "name",
         "model",
         "test",
@@ -176,6 +176,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
         "offset",
         "freqs",
         "with-frequencies",
+        "frequencies-first",
         "inverse",
         "perturbation",
         "svd-eps",
@@ -189,7 +190,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     for key in t.keys() {
         if !KNOWN.contains(&key.as_str()) {
             return Err(format!(
-                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, inverse, perturbation, svd-eps, tol, max-iter) or a threshold"
+                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, frequencies-first, inverse, perturbation, svd-eps, tol, max-iter) or a threshold"
             ));
         }
     }
@@ -218,6 +219,12 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
             .as_bool()
             .ok_or_else(|| format!("{what}: `with-frequencies` must be true or false"))?,
     };
+    let frequencies_first = match t.get("frequencies-first") {
+        None => defaults.frequencies_first,
+        Some(v) => v
+            .as_bool()
+            .ok_or_else(|| format!("{what}: `frequencies-first` must be true or false"))?,
+    };
     let perturbation = opt_f64(t, "perturbation", &what)?;
     let inverse = match t.get("inverse") {
         None => defaults.inverse,
@@ -239,6 +246,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
         offset: opt_f64(t, "offset", &what)?.unwrap_or(defaults.offset),
         frequencies_hz,
         with_frequencies,
+        frequencies_first,
         inverse,
         svd_eps: opt_f64(t, "svd-eps", &what)?.unwrap_or(defaults.svd_eps),
         tol: opt_f64(t, "tol", &what)?.unwrap_or(defaults.tol),

@@ -182,6 +182,10 @@ pub fn update_model(
     let mut fe_frfs_last = Vec::new();
     let mut warned_null = false;
     let mut warned_fewer = false;
+    // Frequencies-first stage: while the paired resonances are far off, FRF
+    // equations at (1 ± cξ)ω̄ sit next to FE poles and mislead; solve the
+    // natural-frequency equations (Eq. 18) alone until they are close.
+    let mut frequency_stage = opts.frequencies_first;
 
     for n in 0..=opts.max_iter {
         let fe = match model.take() {
@@ -281,13 +285,31 @@ pub fn update_model(
         progress(&record);
         records.push(record);
 
+        // Leave the frequency stage once every paired resonance used is within
+        // `FREQUENCY_STAGE_EXIT` (relative).
+        let was_frequency_stage = frequency_stage;
+        if frequency_stage {
+            let worst = pairs
+                .iter()
+                .take(r_used)
+                .enumerate()
+                .filter_map(|(t, p)| {
+                    p.as_ref()
+                        .map(|p| ((p.fe_hz - test_hz[t]) / test_hz[t]).abs())
+                })
+                .fold(0.0f64, f64::max);
+            if worst < FREQUENCY_STAGE_EXIT {
+                frequency_stage = false;
+            }
+        }
+
         // Stopping rules.
         let max_step = step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-        if n > 0 && max_step < opts.tol {
+        if n > 0 && max_step < opts.tol && !was_frequency_stage {
             stop = StopReason::Converged;
             break;
         }
-        if n >= 2 {
+        if n >= 2 && !was_frequency_stage {
             let m: Vec<f64> = records[n - 2..=n].iter().map(|r| r.sfdac.mean).collect();
             if m[2] < m[1] - 1e-5 && m[1] < m[0] - 1e-5 {
                 stop = StopReason::Diverged;
@@ -307,9 +329,13 @@ pub fn update_model(
         }
 
         // Assemble and solve A p = b.
-        let (a, b) = assemble(
-            &eqs.a, &eqs.b, &h_test, opts, &fe, &modes, &pairs, &test_hz, r_used,
-        );
+        let (a, b) = if frequency_stage {
+            frequency_rows(&fe, &modes, &pairs, &test_hz, r_used)
+        } else {
+            assemble(
+                &eqs.a, &eqs.b, &h_test, opts, &fe, &modes, &pairs, &test_hz, r_used,
+            )
+        };
         let sol = solve_gap_rule(a.as_ref(), &b, opts.svd_eps).map_err(UpdateError::Svd)?;
         if !sol.null_space.is_empty() && !warned_null {
             warned_null = true;
@@ -334,6 +360,15 @@ pub fn update_model(
         rank = sol.rank;
         singular_values = sol.singular_values;
         let mut p = sol.step;
+        // Trust region of the frequency stage: the linearisation (Eq. 17) holds
+        // for small changes only.
+        if frequency_stage {
+            let big = p.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+            if big > FREQUENCY_STAGE_MAX_STEP {
+                p.iter_mut()
+                    .for_each(|x| *x *= FREQUENCY_STAGE_MAX_STEP / big);
+            }
+        }
         // 1 + p ≤ 0 would make a property ≤ 0: halve the step.
         step_scale = 1.0;
         let bad: Vec<String> = names
@@ -447,6 +482,40 @@ fn best_index(records: &[IterationRecord]) -> usize {
         }
     }
     best
+}
+
+/// Relative changes below which the frequency stage ends, and the largest
+/// parameter step it takes.
+const FREQUENCY_STAGE_EXIT: f64 = 0.01;
+const FREQUENCY_STAGE_MAX_STEP: f64 = 0.3;
+
+/// The natural-frequency equations alone (Eq. 18–20) for the paired
+/// resonances, each row divided by ω̄_r² so that every mode counts alike:
+/// (∂ω_r²/∂p / ω̄_r²) p = (ω̄_r² − ω_r²) / ω̄_r².
+fn frequency_rows(
+    fe: &FeModel,
+    modes: &Modes,
+    pairs: &[Option<super::ModePair>],
+    test_hz: &[f64],
+    r_used: usize,
+) -> (Mat<f64>, Vec<f64>) {
+    let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
+    for (t, pair) in pairs.iter().enumerate().take(r_used) {
+        if let Some(p) = pair {
+            let w2_test = (TWO_PI * test_hz[t]).powi(2);
+            let (row, b) = frequency_equation(
+                &fe.parameters,
+                modes.shapes.as_ref(),
+                p.fe,
+                modes.omega2[p.fe],
+                w2_test,
+            );
+            rows.push((row.iter().map(|x| x / w2_test).collect(), b / w2_test));
+        }
+    }
+    let np = fe.parameters.len();
+    let a = Mat::from_fn(rows.len(), np, |i, j| rows[i].0[j]);
+    (a, rows.into_iter().map(|(_, b)| b).collect())
 }
 
 /// A_h, b_h, plus the normalised frequency rows when asked (Eq. 21–22).

@@ -47,6 +47,10 @@ pub struct UpdateOptions {
     pub frequencies_hz: Option<Vec<f64>>,
     /// Add the natural-frequency equations (Eq. 16–22).
     pub with_frequencies: bool,
+    /// First bring the paired resonances within 1 % by the natural-frequency
+    /// equations alone (steps limited to |p| ≤ 0.3), then update from FRFs.
+    /// For initial models whose resonances are far from the test's.
+    pub frequencies_first: bool,
     /// Row weighting of the FRF equations (see [`FrfWeighting`]).
     pub weighting: FrfWeighting,
     /// How Z̄ is inverted (§3.3).
@@ -76,6 +80,7 @@ impl Default for UpdateOptions {
             offset: 0.08,
             frequencies_hz: None,
             with_frequencies: false,
+            frequencies_first: false,
             weighting: FrfWeighting::None,
             inverse: InverseMethod::Svd,
             svd_eps: 1e-4,
