@@ -128,3 +128,18 @@ fn controls_only_parameters_wrong() {
         at_noise_level(&d);
     }
 }
+
+#[test]
+fn free_free_beam_on_two_bungees() {
+    let d = run("suspension");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "suspension");
+    assert_eq!(
+        (s[0].nodes.clone(), s[0].dofs.clone()),
+        (vec![3, 11], vec!["z".to_string()])
+    );
+    let k = param(s[0], "k");
+    assert!(k > 400.0 && k < 1600.0, "k = {k}");
+    at_noise_level(&d);
+}

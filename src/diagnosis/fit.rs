@@ -67,6 +67,8 @@ pub struct ModalModel {
     pub residual: Vec<f64>,
     /// Lowest natural frequencies (Hz).
     pub frequencies_hz: Vec<f64>,
+    /// Number of free DOFs of the model.
+    pub dofs: usize,
 }
 
 /// Build `deck` (values already multiplied in) and compute its modal model
@@ -125,6 +127,7 @@ pub fn modal_model(deck: &Deck, data: &TestData) -> Result<ModalModel, DiagnoseE
         .collect();
     let residual = residual.iter().zip(&signs).map(|(r, s)| r * s).collect();
     Ok(ModalModel {
+        dofs: n,
         frequencies_hz: modes.frequencies_hz(),
         omega2: modes.omega2,
         coeff,
@@ -548,7 +551,9 @@ pub fn fit_deck_parameters(
             mask,
         ))
     };
-    let out = lm(f, &x0, &lo, &hi, max_iter)?;
+    // Large parameter sets: fewer iterations (each Jacobian is np model solutions).
+    let iters = if np > 8 { max_iter.min(3) } else { max_iter };
+    let out = lm(f, &x0, &lo, &hi, iters)?;
     let values: ParameterValues = names
         .iter()
         .cloned()

@@ -44,6 +44,9 @@ pub struct DiagnoseOptions {
     pub max_findings: usize,
     /// Candidates (after screening) fitted in full per round.
     pub fitted_per_round: usize,
+    /// No new search round starts after this many model solutions
+    /// (a deterministic bound on run time).
+    pub evaluation_budget: usize,
 }
 
 impl Default for DiagnoseOptions {
@@ -53,6 +56,7 @@ impl Default for DiagnoseOptions {
             skip_update: false,
             max_findings: 4,
             fitted_per_round: 8,
+            evaluation_budget: 2000,
         }
     }
 }
@@ -334,6 +338,22 @@ pub fn diagnose(
         ..
     } = g;
     let mut findings = mut_findings;
+    // The damping form chosen before the extensions may have compensated
+    // for them: choose it again on the extended model.
+    if let Some((d2, _)) = select::choose_damping(&engine, &current, deck_form.clone(), zeta0) {
+        let c_now = engine
+            .fit(None, &current, &damp, &engine.all, None, 0, 0, false)
+            .map_or(f64::INFINITY, |f| f.cost);
+        let c_new = engine
+            .fit(None, &current, &d2, &engine.all, None, 0, 0, false)
+            .map_or(f64::INFINITY, |f| f.cost);
+        if c_new <= c_now
+            || d2.form == deck_form.as_ref().map_or(DampingForm::Modal, |d| d.0)
+                && c_new < c_now * 1.03
+        {
+            damp = d2;
+        }
+    }
     if let Some(p) = parameters {
         updated_parameters = p;
     }
@@ -449,7 +469,7 @@ fn greedy(
     let mut used_labels: Vec<String> = Vec::new();
     let mut accepted_list: Vec<(Hypothesis, Option<f64>)> = Vec::new();
     for round in 0..opts.max_findings {
-        if cost <= 1.25 * j0 {
+        if cost <= 1.25 * j0 || engine.evaluations.get() > opts.evaluation_budget {
             break;
         }
         let step = search_round(engine, &current, &damp, data, opts, &used_labels)?;
@@ -537,6 +557,22 @@ fn greedy(
         damp = f.damping.clone();
         cost = f.cost;
         v_cur = v;
+        // The damping form may have compensated for what was missing.
+        if let Some((d2, forms)) =
+            select::choose_damping(engine, &current, Some((damp.form, damp.x.clone())), zeta0)
+        {
+            let c2 = forms
+                .iter()
+                .find(|x| x.0 == d2.form)
+                .map_or(f64::INFINITY, |x| x.1);
+            if d2.form != damp.form && c2 < cost {
+                if let Some(bf) = engine.fit(None, &current, &d2, &engine.all, None, 0, 0, false) {
+                    damp = bf.damping.clone();
+                    cost = bf.cost;
+                    v_cur = engine.validate(None, &current, &bf);
+                }
+            }
+        }
     }
 
     Ok(Some(Greedy {
@@ -681,7 +717,17 @@ fn search_round(
                 dirs.push(d);
             }
         }
-        for d in dirs {
+        // Directions by their best single-spring score; on larger models
+        // only the best direction gets the pair search.
+        let best_single = |d: &String| {
+            (n_main..candidates.len())
+                .filter(|&i| candidates[i].dofs[0] == *d)
+                .map(|i| probes[i].score)
+                .fold(0.0f64, f64::max)
+        };
+        dirs.sort_by(|a, b| best_single(b).total_cmp(&best_single(a)).then(a.cmp(b)));
+        let large = mm.omega2.len() > 0 && fe.dofs.len() > 200;
+        for (di, d) in dirs.into_iter().enumerate() {
             let set: Vec<&localise::Probe> = (n_main..candidates.len())
                 .filter(|&i| candidates[i].dofs[0] == d)
                 .map(|i| &probes[i])
@@ -706,6 +752,41 @@ fn search_round(
                     chosen.push(h);
                 }
             }
+            // Pairs of springs among the best-scored nodes (all nodes on
+            // small models), screened by a coarse fit: one spring leaves a
+            // rigid-body mode at 0 Hz, so linear probes rank pairs poorly.
+            let mut ranked: Vec<usize> = (0..set.len()).collect();
+            ranked.sort_by(|&a, &b| set[b].score.total_cmp(&set[a].score).then(a.cmp(&b)));
+            let top = if large && di > 0 {
+                0
+            } else if large {
+                ranked.len().min(5)
+            } else {
+                ranked.len().min(16)
+            };
+            let pool: Vec<u32> = ranked[..top]
+                .iter()
+                .map(|&k| candidates[set[k].index].nodes[0])
+                .collect();
+            let mut pairs: Vec<(f64, Hypothesis)> = Vec::new();
+            for a in 0..pool.len() {
+                for b in a + 1..pool.len() {
+                    let mut ns = vec![pool[a], pool[b]];
+                    ns.sort_unstable();
+                    let h = hypotheses::springs::suspension(&ctx, ns, dof);
+                    if used.contains(&h.label) || chosen.iter().any(|c| c.label == h.label) {
+                        continue;
+                    }
+                    engine.damping_iterations.set(3);
+                    let f = engine.fit(Some(&h), current, damp, &engine.all, None, 5, 3, false);
+                    engine.damping_iterations.set(10);
+                    if let Some(f) = f {
+                        pairs.push((f.cost, h));
+                    }
+                }
+            }
+            pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+            chosen.extend(pairs.into_iter().take(2).map(|(_, h)| h));
         }
     }
     // Shear deformation has no parameter: always fitted.

@@ -67,8 +67,10 @@ pub struct Engine<'a> {
     pub data: &'a TestData,
     pub folds: Vec<(Mask, Mask)>,
     pub all: Mask,
-    /// Model evaluations so far (eigen solutions).
+    /// Work so far: model solutions, weighted by size (one unit per 100 DOFs).
     pub evaluations: std::cell::Cell<usize>,
+    /// Levenberg–Marquardt iterations of the damping profile (fewer while screening).
+    pub damping_iterations: std::cell::Cell<usize>,
 }
 
 impl<'a> Engine<'a> {
@@ -78,12 +80,16 @@ impl<'a> Engine<'a> {
             folds: folds(data),
             all: Mask::all(data),
             evaluations: std::cell::Cell::new(0),
+            damping_iterations: std::cell::Cell::new(10),
         }
     }
 
     pub fn model(&self, deck: &Deck) -> Result<ModalModel, DiagnoseError> {
-        self.evaluations.set(self.evaluations.get() + 1);
-        fit::modal_model(deck, self.data)
+        let mm = fit::modal_model(deck, self.data)?;
+        // Work units: one per model solution, more for models above 100 DOFs.
+        self.evaluations
+            .set(self.evaluations.get() + mm.dofs.div_ceil(100).max(1));
+        Ok(mm)
     }
 
     /// Damping-profiled cost at log-parameter `s` (or with no parameter).
@@ -100,7 +106,7 @@ impl<'a> Engine<'a> {
             None => base.clone(),
         };
         let mm = self.model(&deck).ok()?;
-        let (d, r) = fit::fit_damping(&mm, damp, self.data, mask, 10);
+        let (d, r) = fit::fit_damping(&mm, damp, self.data, mask, self.damping_iterations.get());
         let c = fit::mean_sq(&r);
         c.is_finite().then_some((c, d, mm))
     }
