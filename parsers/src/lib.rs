@@ -1,2 +1,2 @@
-pub mod uff;
 pub mod deck;
+pub mod uff;

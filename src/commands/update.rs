@@ -66,7 +66,10 @@ pub fn run(
         command: None,
     };
     crate::report::write_report(&cmd.out, &result, &deck, &test, &inputs).map_err(|e| {
-        CommandError::input(format!("writing the report into {}: {e}", cmd.out.display()))
+        CommandError::input(format!(
+            "writing the report into {}: {e}",
+            cmd.out.display()
+        ))
     })?;
     let files = list_files(&cmd.out);
     Ok(UpdateOutcome {
