@@ -154,13 +154,11 @@ impl TestData {
             i += 1;
             keep[i - 1]
         });
-        for v in [&mut self.values] {
-            let mut i = 0;
-            v.retain(|_| {
-                i += 1;
-                keep[i - 1]
-            });
-        }
+        let mut i = 0;
+        self.values.retain(|_| {
+            i += 1;
+            keep[i - 1]
+        });
         let mut i = 0;
         self.sigma.retain(|_| {
             i += 1;

@@ -431,8 +431,9 @@ pub fn solve_small(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
         b.swap(k, piv);
         for i in k + 1..n {
             let f = a[i][k] / a[k][k];
-            for j in k..n {
-                a[i][j] -= f * a[k][j];
+            let (top, bottom) = a.split_at_mut(i);
+            for (x, y) in bottom[0][k..n].iter_mut().zip(&top[k][k..n]) {
+                *x -= f * y;
             }
             b[i] -= f * b[k];
         }

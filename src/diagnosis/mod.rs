@@ -711,8 +711,8 @@ fn search_round(
     // Suspension: forward selection of same-stiffness springs per direction.
     if ctx.free_free {
         let mut dirs: Vec<String> = Vec::new();
-        for i in n_main..candidates.len() {
-            let d = candidates[i].dofs[0].clone();
+        for c in &candidates[n_main..] {
+            let d = c.dofs[0].clone();
             if !dirs.contains(&d) {
                 dirs.push(d);
             }
@@ -726,7 +726,7 @@ fn search_round(
                 .fold(0.0f64, f64::max)
         };
         dirs.sort_by(|a, b| best_single(b).total_cmp(&best_single(a)).then(a.cmp(b)));
-        let large = mm.omega2.len() > 0 && fe.dofs.len() > 200;
+        let large = fe.dofs.len() > 200;
         for (di, d) in dirs.into_iter().enumerate() {
             let set: Vec<&localise::Probe> = (n_main..candidates.len())
                 .filter(|&i| candidates[i].dofs[0] == d)

@@ -113,6 +113,7 @@ impl<'a> Engine<'a> {
 
     /// Fit `hyp` (or only the damping of `base`) on `mask`. `bracket`: log
     /// range searched (default the parameter's bounds) with `grid` points.
+    #[allow(clippy::too_many_arguments)]
     pub fn fit(
         &self,
         hyp: Option<&Hypothesis>,
