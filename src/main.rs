@@ -6,8 +6,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use frfup::commands::{self, convert, progress::Progress, CommandError};
+use frfup::commands::progress::{Progress, StepReporter};
+use frfup::commands::{self, convert, CommandError};
 use frfup::testdata::FrfKind;
+use std::sync::Mutex;
 
 #[derive(Parser)]
 #[command(
@@ -19,6 +21,9 @@ struct Cli {
     /// No progress bars or summaries on stderr.
     #[arg(long, global = true)]
     quiet: bool,
+    /// Per-stage timings on stderr.
+    #[arg(long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -247,16 +252,14 @@ fn run(cli: Cli) -> Result<(), CommandError> {
     let progress = Progress::detect(cli.quiet);
     match cli.command {
         Command::Demo { out } => {
-            let quiet = cli.quiet;
             let start = std::time::Instant::now();
-            let (outcome, report) = commands::demo::run(&out, &mut |rec| {
-                if !quiet {
-                    eprintln!(
-                        "iteration {}: SFDAC mean {:.4} min {:.4}",
-                        rec.index, rec.sfdac.mean, rec.sfdac.min
-                    );
-                }
-            })?;
+            let reporter = StepReporter::new(cli.quiet, 21, "iteration");
+            let result = commands::demo::run(&out, &mut |rec| {
+                reporter.step(&iteration_line(rec));
+            });
+            reporter.finish();
+            let (outcome, report) = result?;
+            print_timings(cli.verbose, &outcome);
             print_update_summary(&outcome);
             println!(
                 "done in {:.1} s. Open {} (and report.html, the .svg charts, updated.deck in {})",
@@ -371,16 +374,14 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 out: out.clone(),
                 options: args.options()?,
             };
-            let quiet = cli.quiet;
-            let outcome = commands::update::run(&cmd, &mut |rec| {
-                if !quiet {
-                    let step = rec.step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-                    eprintln!(
-                        "iteration {}: SFDAC mean {:.4} min {:.4}, max |p| {:.3e}",
-                        rec.index, rec.sfdac.mean, rec.sfdac.min, step
-                    );
-                }
-            })?;
+            let reporter =
+                StepReporter::new(cli.quiet, cmd.options.max_iter as u64 + 1, "iteration");
+            let result = commands::update::run(&cmd, &mut |rec| {
+                reporter.step(&iteration_line(rec));
+            });
+            reporter.finish();
+            let outcome = result?;
+            print_timings(cli.verbose, &outcome);
             print_update_summary(&outcome);
             println!("wrote {}", out.display());
             let thresholds = frfup::batch::Thresholds {
@@ -422,8 +423,9 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 .map(|s| frfup::batch::Shard::parse(&s))
                 .transpose()
                 .map_err(CommandError::input)?;
+            let reporter = Mutex::new(None::<StepReporter>);
             let quiet = cli.quiet;
-            let summary = frfup::batch::run(
+            let result = frfup::batch::run(
                 &frfup::batch::BatchOptions {
                     campaign,
                     out: out.clone(),
@@ -435,22 +437,30 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                     },
                 },
                 &|c, n, total| {
-                    if !quiet {
-                        eprintln!(
-                            "[{n}/{total}] {}: {} ({:.2} s){}",
-                            c.name,
-                            c.status.name(),
-                            c.wall_time_s,
-                            match &c.status {
-                                frfup::batch::CaseStatus::Passed => String::new(),
-                                frfup::batch::CaseStatus::ThresholdFailed(r) =>
-                                    format!(": {}", r.join("; ")),
-                                frfup::batch::CaseStatus::Error(e) => format!(": {e}"),
-                            }
-                        );
+                    let line = format!(
+                        "[{n}/{total}] {}: {} ({:.2} s){}",
+                        c.name,
+                        c.status.name(),
+                        c.wall_time_s,
+                        match &c.status {
+                            frfup::batch::CaseStatus::Passed => String::new(),
+                            frfup::batch::CaseStatus::ThresholdFailed(r) =>
+                                format!(": {}", r.join("; ")),
+                            frfup::batch::CaseStatus::Error(e) => format!(": {e}"),
+                        }
+                    );
+                    if let Ok(mut r) = reporter.lock() {
+                        r.get_or_insert_with(|| StepReporter::new(quiet, total as u64, "case"))
+                            .step(&line);
                     }
                 },
-            )?;
+            );
+            if let Ok(r) = reporter.lock() {
+                if let Some(r) = r.as_ref() {
+                    r.finish();
+                }
+            }
+            let summary = result?;
             println!(
                 "{} case(s): {} passed; summary in {}",
                 summary.cases.len(),
@@ -495,6 +505,22 @@ fn print_update_summary(outcome: &commands::update::UpdateOutcome) {
     );
     for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
         println!("  {name:<16} {p:+.5}");
+    }
+}
+
+fn iteration_line(rec: &frfup::updating::IterationRecord) -> String {
+    let step = rec.step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    format!(
+        "iteration {}: SFDAC mean {:.4} min {:.4}, max |p| {:.3e}",
+        rec.index, rec.sfdac.mean, rec.sfdac.min, step
+    )
+}
+
+fn print_timings(verbose: bool, outcome: &commands::update::UpdateOutcome) {
+    if verbose {
+        for (stage, s) in &outcome.timings {
+            eprintln!("time: {stage:<32} {s:>8.3} s");
+        }
     }
 }
 

@@ -70,3 +70,49 @@ impl<R: Read> Read for ProgressReader<R> {
         Ok(n)
     }
 }
+
+/// Progress of a counted task (iterations, batch cases): an indicatif bar on a
+/// terminal, plain one-line messages in CI or off a terminal, nothing with `--quiet`.
+pub enum StepReporter {
+    Bar(ProgressBar),
+    Lines,
+    Silent,
+}
+
+impl StepReporter {
+    /// A reporter for `total` steps.
+    pub fn new(quiet: bool, total: u64, what: &str) -> Self {
+        if quiet {
+            return StepReporter::Silent;
+        }
+        if Progress::detect(false).enabled {
+            let bar = ProgressBar::new(total);
+            bar.set_style(
+                ProgressStyle::with_template(&format!("{what} {{pos}}/{{len}} {{bar:30}} {{msg}}"))
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            StepReporter::Bar(bar)
+        } else {
+            StepReporter::Lines
+        }
+    }
+
+    /// One step done, with a one-line message.
+    pub fn step(&self, message: &str) {
+        match self {
+            StepReporter::Bar(bar) => {
+                bar.inc(1);
+                bar.set_message(message.to_string());
+            }
+            StepReporter::Lines => eprintln!("{message}"),
+            StepReporter::Silent => {}
+        }
+    }
+
+    /// Clear the bar.
+    pub fn finish(&self) {
+        if let StepReporter::Bar(bar) = self {
+            bar.finish_and_clear();
+        }
+    }
+}

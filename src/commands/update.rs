@@ -24,6 +24,8 @@ pub struct UpdateOutcome {
     pub freq_error_initial_pct: Option<f64>,
     pub freq_error_updated_pct: Option<f64>,
     pub files: Vec<PathBuf>,
+    /// Wall time of each stage (name, seconds), for `--verbose`.
+    pub timings: Vec<(&'static str, f64)>,
 }
 
 /// Mean |f_FE − f_test| / f_test in % over the test resonances paired with an FE mode
@@ -46,8 +48,16 @@ pub fn run(
     cmd: &UpdateCommand,
     progress: &mut dyn FnMut(&updating::IterationRecord),
 ) -> Result<UpdateOutcome, CommandError> {
+    let mut timings = Vec::new();
+    let mut clock = std::time::Instant::now();
+    let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
+        timings.push((name, clock.elapsed().as_secs_f64()));
+        clock = std::time::Instant::now();
+    };
     let deck = read_deck(&cmd.deck)?;
+    lap("read deck", &mut timings);
     let test = testdata::load(&cmd.test).map_err(|e| CommandError::input(e.to_string()))?;
+    lap("read test data", &mut timings);
     let result =
         updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {
             CommandError::input(format!(
@@ -56,9 +66,11 @@ pub fn run(
                 cmd.test.display()
             ))
         })?;
+    lap("update", &mut timings);
     std::fs::create_dir_all(&cmd.out).map_err(|e| CommandError::output(&cmd.out, e))?;
     updating::write_outputs(&result, &deck, &cmd.out)
         .map_err(|e| CommandError::output(&cmd.out, e))?;
+    lap("write tables and updated deck", &mut timings);
     let inputs = crate::report::ReportInputs {
         deck_path: cmd.deck.display().to_string(),
         test_path: cmd.test.display().to_string(),
@@ -71,12 +83,14 @@ pub fn run(
             cmd.out.display()
         ))
     })?;
+    lap("write charts and report", &mut timings);
     let files = list_files(&cmd.out);
     Ok(UpdateOutcome {
         freq_error_initial_pct: mean_frequency_error_pct(&result, 0),
         freq_error_updated_pct: mean_frequency_error_pct(&result, result.final_iteration),
         result,
         files,
+        timings,
     })
 }
 
