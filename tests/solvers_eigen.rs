@@ -157,8 +157,8 @@ fn random_pencils_match_dense_reference() {
         let count = 25.min(n);
         for dense in [true, false] {
             let modes = lowest_modes(&kk, &mm, &opts(count, dense, true)).unwrap();
-            for j in 0..count {
-                let rel = (modes.omega2[j] - reference[j]).abs() / reference[j];
+            for (j, (&got, &want)) in modes.omega2.iter().zip(&reference).take(count).enumerate() {
+                let rel = (got - want).abs() / want;
                 assert!(rel < 1e-9, "n={n} dense={dense} mode {j}: {rel:e}");
             }
             assert!(mass_orthonormality_error(&mm, &modes.shapes) < 1e-9);
