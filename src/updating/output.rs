@@ -34,7 +34,7 @@ pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io:
     write_atomic(&dir.join("sfdac.csv"), sfdac_csv(result).as_bytes())?;
     let updated = model::updated_deck(deck, &result.parameter_values());
     write_atomic(&dir.join("updated.deck"), deck::write(&updated).as_bytes())?;
-    write_atomic(&dir.join("report.md"), report_md(result).as_bytes())?;
+    write_atomic(&dir.join("report.md"), report_md(result, deck).as_bytes())?;
     Ok(())
 }
 
@@ -156,6 +156,7 @@ pub fn report_json(result: &UpdateResult) -> Value {
             "offset": o.offset,
             "freqs": o.frequencies_hz,
             "with_frequencies": o.with_frequencies,
+            "frequencies_first": o.frequencies_first,
             "weighting": o.weighting.name(),
             "inverse": inverse,
             "perturbation": perturbation,
@@ -233,7 +234,7 @@ pub fn sfdac_csv(result: &UpdateResult) -> String {
 }
 
 /// `report.md`: a short summary for people.
-pub fn report_md(result: &UpdateResult) -> String {
+pub fn report_md(result: &UpdateResult, deck: &Deck) -> String {
     let mut s = String::from("# FRF model updating report\n\n");
     let last = result.final_record();
     let _ = writeln!(
@@ -257,6 +258,47 @@ pub fn report_md(result: &UpdateResult) -> String {
         result.updating_frequencies.len(),
         result.updating_frequencies.hz().iter().map(|f| format!("{f:.3}")).collect::<Vec<_>>().join(", ")
     );
+    let title = deck.title();
+    let _ = writeln!(
+        s,
+        "## Model\n\n{}{} parameter(s):\n\n| parameter | quantity | IDs |\n|---|---|---|",
+        if title.is_empty() {
+            String::new()
+        } else {
+            format!("{}. ", title.replace('\n', " "))
+        },
+        deck.params.len()
+    );
+    for p in &deck.params {
+        let ids: Vec<String> = p
+            .ids
+            .iter()
+            .map(|r| {
+                if r.first == r.last {
+                    r.first.to_string()
+                } else {
+                    format!("{}-{}", r.first, r.last)
+                }
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} |",
+            p.name,
+            p.quantity.name(),
+            ids.join(",")
+        );
+    }
+    s.push_str("\n## Options\n\n");
+    if let Some(opts) = report_json(result)
+        .get("options")
+        .and_then(|o| o.as_object())
+    {
+        for (k, v) in opts {
+            let _ = writeln!(s, "- {k}: {v}");
+        }
+    }
+    s.push('\n');
     s.push_str("## Parameters (relative change p̄)\n\n| iteration |");
     for n in &result.parameter_names {
         let _ = write!(s, " {n} |");
