@@ -11,6 +11,17 @@ cd "$(dirname "$0")/.."
 FRFUP=${1:-target/release/frfup}
 OUT=fixtures/garteur
 python3 scripts/gen_garteur.py > "$OUT/garteur.deck"
+# The deck `frfup demo` updates: the free-free model plus the bungee suspension
+# the facts give (about 4000 N/m at 3 points), which an analyst models because
+# it is known. It couples into the elastic modes (16.0 -> 16.2 Hz for the
+# second one): a free-free model would have to absorb it into wrong stiffnesses.
+{
+  cat "$OUT/garteur.deck"
+  echo "# bungee suspension (../shared/garteur/FACTS.md): 3 cords, about 4000 N/m each"
+  echo "spring 1 104 z k=4000"
+  echo "spring 2 204 z k=4000"
+  echo "spring 3 10 z k=4000"
+} > "$OUT/garteur_suspended.deck"
 {
   cat "$OUT/garteur.deck"
   echo "# --- hidden variant: physics the analyst's deck leaves out ---"
@@ -41,4 +52,4 @@ for line in sys.stdin:
     d[k] = float(v)
 print(json.dumps({"parameters": d, "damping_modal_zeta": 0.01, "suspension_springs_n_per_m": {"104z": 4000, "204z": 4000, "10z": 4000}, "noise_fraction_of_rms": 0.015, "seed": 19}, indent=2, sort_keys=True))
 ' > "$OUT/truth.json"
-echo "wrote $OUT/garteur.deck, $OUT/truth.deck, $OUT/truth.json, $OUT/campaign.uff"
+echo "wrote $OUT/garteur.deck, $OUT/garteur_suspended.deck, $OUT/truth.deck, $OUT/truth.json, $OUT/campaign.uff"

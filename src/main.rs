@@ -186,6 +186,9 @@ struct UpdateArgs {
     /// equations alone, then update from FRFs (for initial models far from the test).
     #[arg(long)]
     frequencies_first: bool,
+    /// How the test's resonances and their shapes are found.
+    #[arg(long, value_enum, default_value = "peaks")]
+    resonance_method: ResonanceMethodArg,
     /// How the reduced dynamic stiffness is inverted.
     #[arg(long, value_enum, default_value = "svd")]
     inverse: Inverse,
@@ -195,12 +198,25 @@ struct UpdateArgs {
     /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E (Eq. 40).
     #[arg(long, default_value_t = 1e-4)]
     svd_eps: f64,
+    /// Tikhonov damping of each FRF step, relative to the largest singular
+    /// value (0: the paper's plain SVD solution).
+    #[arg(long, default_value_t = 0.0)]
+    damping: f64,
     /// Stop when max |p_j| < T (Eq. 49).
     #[arg(long, default_value_t = 0.01)]
     tol: f64,
     /// Iteration limit.
     #[arg(long, default_value_t = 20)]
     max_iter: usize,
+}
+
+/// `--resonance-method`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum ResonanceMethodArg {
+    /// Peak picking on the summed mobility (the paper's way).
+    Peaks,
+    /// Multi-channel pole-residue fit: finds weak modes, separates close ones.
+    Fit,
 }
 
 impl UpdateArgs {
@@ -211,7 +227,12 @@ impl UpdateArgs {
             offset: self.offset,
             with_frequencies: self.with_frequencies,
             frequencies_first: self.frequencies_first,
+            resonance_method: match self.resonance_method {
+                ResonanceMethodArg::Peaks => frfup::updating::ResonanceMethod::PeakPicking,
+                ResonanceMethodArg::Fit => frfup::updating::ResonanceMethod::ModalFit,
+            },
             svd_eps: self.svd_eps,
+            damping: self.damping,
             tol: self.tol,
             max_iter: self.max_iter,
             inverse: match self.inverse {

@@ -33,13 +33,56 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
             .unwrap();
     let its = report["iterations"].as_array().unwrap();
     let before = its[0]["sfdac_mean"].as_f64().unwrap();
-    // the returned model is the best iteration
-    let after = its
-        .iter()
-        .filter_map(|i| i["sfdac_mean"].as_f64())
-        .fold(f64::MIN, f64::max);
-    // measured on this build: 0.42 -> 0.91; the margin leaves room for solver round-off
-    assert!(after > before + 0.3, "SFDAC {before} -> {after}");
+    let fin = report["final_iteration"].as_u64().unwrap() as usize;
+    let after = its[fin]["sfdac_mean"].as_f64().unwrap();
+    // Issue targets: mean SFDAC > 0.99 (measured 0.42 -> 0.9991).
+    assert!(before < 0.5 && after > 0.99, "SFDAC {before} -> {after}");
+
+    // Mean |df/f| over the first 10 elastic test modes < 0.5 % (measured
+    // 0.03 %); the 2.55 Hz suspension mode is not elastic (below 5 Hz).
+    let freqs = std::fs::read_to_string(out_dir.join("frequencies.csv")).unwrap();
+    let mut devs = Vec::new();
+    for line in freqs.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let (Ok(test_hz), Ok(dev)) = (f[1].parse::<f64>(), f[5].parse::<f64>()) else {
+            continue;
+        };
+        if test_hz > 5.0 {
+            devs.push(dev.abs());
+        }
+    }
+    assert!(devs.len() >= 10, "{freqs}");
+    let mean = devs[..10].iter().sum::<f64>() / 10.0;
+    assert!(mean < 0.5, "mean |df/f| {mean} % over {devs:?}");
+
+    // Parameters within 0.05 of the truth where identifiable: a 10 % change
+    // moves one of the first 10 elastic modes by at least 0.1 % (see the
+    // README; the root, tail, tailplane, fin-joint and fuselage-torsion
+    // parameters move none by more than 0.05 %). Measured: all within 0.01.
+    let truth: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur/truth.json"),
+        )
+        .unwrap(),
+    )
+    .unwrap();
+    let identifiable = [
+        "fus_Iy",
+        "rw_Iy",
+        "rw_J",
+        "rw_Iz",
+        "lw_Iy",
+        "lw_J",
+        "lw_Iz",
+        "fin_Iz",
+        "fin_J",
+        "wingbody_J",
+    ];
+    for name in identifiable {
+        let got = report["parameters"][name].as_f64().unwrap();
+        let want = truth["parameters"][name].as_f64().unwrap();
+        assert!((got - want).abs() < 0.05, "{name}: {got} vs truth {want}");
+    }
     // the updated deck is a valid deck
     let deck = std::fs::read_to_string(out_dir.join("updated.deck")).unwrap();
     frfup_parsers::deck::parse(&deck).expect("updated.deck parses");

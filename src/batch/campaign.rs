@@ -17,7 +17,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::updating::{InverseMethod, UpdateOptions};
+use crate::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
 
 /// Pass/fail thresholds of a case.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -167,7 +167,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     let what = format!("case #{} ({name})", index + 1);
     let model = base.join(string("model")?);
     let test = base.join(string("test")?);
-    const KNOWN: [&str; 18] = [
+    const KNOWN: [&str; 20] = [
         "name",
         "model",
         "test",
@@ -180,6 +180,8 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
         "inverse",
         "perturbation",
         "svd-eps",
+        "damping",
+        "resonance-method",
         "tol",
         "max-iter",
         "fail_below_sfdac",
@@ -190,7 +192,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     for key in t.keys() {
         if !KNOWN.contains(&key.as_str()) {
             return Err(format!(
-                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, frequencies-first, inverse, perturbation, svd-eps, tol, max-iter) or a threshold"
+                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, frequencies-first, resonance-method, inverse, perturbation, svd-eps, damping, tol, max-iter) or a threshold"
             ));
         }
     }
@@ -225,6 +227,18 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
             .as_bool()
             .ok_or_else(|| format!("{what}: `frequencies-first` must be true or false"))?,
     };
+    let resonance_method = match t.get("resonance-method") {
+        None => defaults.resonance_method,
+        Some(v) => match v.as_str() {
+            Some("peaks") => ResonanceMethod::PeakPicking,
+            Some("fit") => ResonanceMethod::ModalFit,
+            _ => {
+                return Err(format!(
+                    "{what}: `resonance-method` must be \"peaks\" or \"fit\", found {v}"
+                ))
+            }
+        },
+    };
     let perturbation = opt_f64(t, "perturbation", &what)?;
     let inverse = match t.get("inverse") {
         None => defaults.inverse,
@@ -249,6 +263,8 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
         frequencies_first,
         inverse,
         svd_eps: opt_f64(t, "svd-eps", &what)?.unwrap_or(defaults.svd_eps),
+        damping: opt_f64(t, "damping", &what)?.unwrap_or(defaults.damping),
+        resonance_method,
         tol: opt_f64(t, "tol", &what)?.unwrap_or(defaults.tol),
         max_iter: opt_usize(t, "max-iter", &what)?.unwrap_or(defaults.max_iter),
         ..defaults

@@ -70,7 +70,11 @@ pub struct ModePair {
     pub fe_hz: f64,
 }
 
-/// Pair each test resonance with one FE mode: pairs are formed greedily in
+/// Largest relative frequency difference of a pair.
+pub const PAIR_FREQUENCY_WINDOW: f64 = 0.3;
+
+/// Pair each test resonance with one FE mode within ±30 % in frequency
+/// ([`PAIR_FREQUENCY_WINDOW`]): pairs are formed greedily in
 /// order of decreasing MAC (ties: closer frequency, then lower indices), each FE
 /// mode used once; a pair needs MAC ≥ `mac_min`. Resonances left over are
 /// paired, if any FE mode is still free, with the free mode nearest in
@@ -87,6 +91,11 @@ pub fn pair_modes(
         for (e, es) in fe_shapes.iter().enumerate() {
             let m = mac(ts, es);
             let df = ((fe_hz[e] - test_hz[t]) / test_hz[t].abs().max(1e-12)).abs();
+            // A few sensors alias high modes onto low ones (GARTEUR: a 346 Hz
+            // FE mode has MAC 0.98 with the 37 Hz test mode at 26 sensors).
+            if df > PAIR_FREQUENCY_WINDOW {
+                continue;
+            }
             cands.push((m, df, t, e));
         }
     }

@@ -21,14 +21,15 @@ use faer::Mat;
 use frfup_parsers::deck::Deck;
 
 use super::correlation::{fdac_matrix, pair_modes, SfdacSummary};
-use super::frequencies::{indicator, pick_peaks, PeakOptions, UpdatingFrequencies};
+use super::frequencies::{indicator, pick_peaks, PeakOptions, Resonance, UpdatingFrequencies};
+use super::identify::{identify_modes, IdentifyOptions};
 use super::measured::MeasuredDofs;
 use super::sensitivity::{frequency_equation, frf_equations, ModalSensitivities};
 use super::serep::{InverseMethod, SerepBasis};
 use super::svd_solve::solve_gap_rule;
 use super::{
-    FrfWeighting, IterationRecord, StopReason, UpdateError, UpdateOptions, UpdateResult,
-    UpdateWarning,
+    FrfWeighting, IterationRecord, ResonanceMethod, StopReason, UpdateError, UpdateOptions,
+    UpdateResult, UpdateWarning,
 };
 use crate::model::{self, FeModel, ModelError, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
@@ -80,13 +81,32 @@ pub fn update_model(
     let n_ex = meas.len();
 
     // Measured resonances and updating frequencies (Eq. 42).
-    let mut peaks = pick_peaks(
-        &meas.lines_hz,
-        &indicator(&meas.mobility),
-        &PeakOptions {
-            min_prominence: opts.min_prominence,
-        },
-    );
+    let ind = indicator(&meas.mobility);
+    let (mut peaks, mut fitted_shapes): (Vec<Resonance>, Option<Vec<Vec<f64>>>) =
+        match opts.resonance_method {
+            ResonanceMethod::PeakPicking => (
+                pick_peaks(
+                    &meas.lines_hz,
+                    &ind,
+                    &PeakOptions {
+                        min_prominence: opts.min_prominence,
+                    },
+                ),
+                None,
+            ),
+            ResonanceMethod::ModalFit => {
+                let modes = identify_modes(
+                    &meas.lines_hz,
+                    &meas.receptance,
+                    &ind,
+                    &IdentifyOptions::default(),
+                );
+                (
+                    modes.iter().map(|m| m.resonance()).collect(),
+                    Some(modes.into_iter().map(|m| m.shape).collect()),
+                )
+            }
+        };
     // A free-free model tested on a suspension: test resonances below half the
     // first elastic natural frequency of the initial model are suspension
     // (rigid-body) modes, which the FE model cannot reproduce; leave them out.
@@ -109,6 +129,14 @@ pub fn update_model(
                 .filter(|&x| x < 0.5 * f_elastic)
                 .collect();
             if !suspension.is_empty() {
+                if let Some(shapes) = fitted_shapes.as_mut() {
+                    let keep: Vec<bool> = peaks
+                        .iter()
+                        .map(|r| r.frequency_hz >= 0.5 * f_elastic)
+                        .collect();
+                    let mut k = keep.iter();
+                    shapes.retain(|_| *k.next().unwrap_or(&true));
+                }
                 peaks.retain(|r| r.frequency_hz >= 0.5 * f_elastic);
                 warnings.push(UpdateWarning::SuspensionModes {
                     modes_hz: suspension,
@@ -144,10 +172,13 @@ pub fn update_model(
         .iter()
         .map(|u| meas.at_line(u.line))
         .collect();
-    let test_shapes: Vec<Vec<f64>> = peaks
-        .iter()
-        .map(|r| meas.deflection_shape(r.line))
-        .collect();
+    let test_shapes: Vec<Vec<f64>> = match fitted_shapes {
+        Some(shapes) => shapes,
+        None => peaks
+            .iter()
+            .map(|r| meas.deflection_shape(r.line))
+            .collect(),
+    };
     let test_hz: Vec<f64> = peaks.iter().map(|r| r.frequency_hz).collect();
 
     let r_basis = if opts.frequencies_hz.is_some() {
@@ -186,6 +217,9 @@ pub fn update_model(
     // equations at (1 ± cξ)ω̄ sit next to FE poles and mislead; solve the
     // natural-frequency equations (Eq. 18) alone until they are close.
     let mut frequency_stage = opts.frequencies_first;
+    // Levenberg–Marquardt scale of the step damping: halved after a step that
+    // raised the mean SFDAC, quadrupled after one that lowered it.
+    let mut damping_scale = 1.0f64;
 
     for n in 0..=opts.max_iter {
         let fe = match model.take() {
@@ -295,10 +329,16 @@ pub fn update_model(
                 .enumerate()
                 .filter_map(|(t, p)| {
                     p.as_ref()
+                        .filter(|p| p.mac >= FREQUENCY_STAGE_MAC)
                         .map(|p| ((p.fe_hz - test_hz[t]) / test_hz[t]).abs())
                 })
                 .fold(0.0f64, f64::max);
-            if worst < FREQUENCY_STAGE_EXIT {
+            // With fitted shapes the stage also matches mode shapes: stay until
+            // its steps are small as well (at most FREQUENCY_STAGE_ITERATIONS).
+            let settled = opts.resonance_method != ResonanceMethod::ModalFit
+                || step.iter().fold(0.0f64, |a, p| a.max(p.abs())) < opts.tol.max(0.01)
+                || n >= FREQUENCY_STAGE_ITERATIONS;
+            if worst < FREQUENCY_STAGE_EXIT && (n > 0 && settled) {
                 frequency_stage = false;
             }
         }
@@ -330,13 +370,63 @@ pub fn update_model(
 
         // Assemble and solve A p = b.
         let (a, b) = if frequency_stage {
-            frequency_rows(&fe, &modes, &pairs, &test_hz, r_used)
+            let mut rows = frequency_rows(&fe, &modes, &pairs, &test_hz, r_used);
+            if opts.resonance_method == ResonanceMethod::ModalFit {
+                append_shape_rows(
+                    &mut rows,
+                    &fe,
+                    &modes,
+                    &pairs,
+                    &test_shapes,
+                    &meas.equations,
+                    r_used,
+                );
+            }
+            rows
         } else {
             assemble(
                 &eqs.a, &eqs.b, &h_test, opts, &fe, &modes, &pairs, &test_hz, r_used,
             )
         };
-        let sol = solve_gap_rule(a.as_ref(), &b, opts.svd_eps).map_err(UpdateError::Svd)?;
+        let mut sol = solve_gap_rule(a.as_ref(), &b, opts.svd_eps).map_err(UpdateError::Svd)?;
+        if n > 0 {
+            let (prev, now) = (records[n - 1].sfdac.mean, records[n].sfdac.mean);
+            damping_scale = if now >= prev {
+                (damping_scale * 0.5).max(0.01)
+            } else {
+                (damping_scale * 4.0).min(16.0)
+            };
+        }
+        let damping = damping_scale
+            * if frequency_stage {
+                FREQUENCY_STAGE_DAMPING
+            } else {
+                opts.damping
+            };
+        if damping > 0.0 {
+            // Damped least squares (rows μ I, μ = FREQUENCY_STAGE_DAMPING σ₁):
+            // a resonance that no parameter moves much (a suspension mode, a
+            // mode the parameters barely touch) must not buy its last per cent
+            // with huge changes of insensitive parameters.
+            let mu = damping * sol.singular_values.first().copied().unwrap_or(0.0);
+            if mu > 0.0 {
+                let (m, np_) = (a.nrows(), a.ncols());
+                let aug = Mat::from_fn(m + np_, np_, |i, j| {
+                    if i < m {
+                        a[(i, j)]
+                    } else if i - m == j {
+                        mu
+                    } else {
+                        0.0
+                    }
+                });
+                let mut b_aug = b.clone();
+                b_aug.resize(m + np_, 0.0);
+                let damped =
+                    solve_gap_rule(aug.as_ref(), &b_aug, opts.svd_eps).map_err(UpdateError::Svd)?;
+                sol.step = damped.step;
+            }
+        }
         if !sol.null_space.is_empty() && !warned_null {
             warned_null = true;
             let combinations = sol
@@ -488,6 +578,14 @@ fn best_index(records: &[IterationRecord]) -> usize {
 /// parameter step it takes.
 const FREQUENCY_STAGE_EXIT: f64 = 0.01;
 const FREQUENCY_STAGE_MAX_STEP: f64 = 0.3;
+/// Weight of the mode-shape rows against the relative ω² rows.
+const SHAPE_ROW_WEIGHT: f64 = 0.3;
+/// Iterations after which the first stage ends even if its steps are not small.
+const FREQUENCY_STAGE_ITERATIONS: usize = 12;
+/// Tikhonov damping of the frequency stage, relative to the largest singular value.
+const FREQUENCY_STAGE_DAMPING: f64 = 0.05;
+/// MAC a pair needs to enter the frequency stage's equations.
+const FREQUENCY_STAGE_MAC: f64 = 0.8;
 
 /// The natural-frequency equations alone (Eq. 18–20) for the paired
 /// resonances, each row divided by ω̄_r² so that every mode counts alike:
@@ -501,7 +599,8 @@ fn frequency_rows(
 ) -> (Mat<f64>, Vec<f64>) {
     let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
     for (t, pair) in pairs.iter().enumerate().take(r_used) {
-        if let Some(p) = pair {
+        // Only clear pairs: one wrong pair drives every parameter astray.
+        if let Some(p) = pair.as_ref().filter(|p| p.mac >= FREQUENCY_STAGE_MAC) {
             let w2_test = (TWO_PI * test_hz[t]).powi(2);
             let (row, b) = frequency_equation(
                 &fe.parameters,
@@ -516,6 +615,81 @@ fn frequency_rows(
     let np = fe.parameters.len();
     let a = Mat::from_fn(rows.len(), np, |i, j| rows[i].0[j]);
     (a, rows.into_iter().map(|(_, b)| b).collect())
+}
+
+/// Mode-shape rows for the clear pairs (MAC ≥ [`FREQUENCY_STAGE_MAC`]):
+/// −(∂φ_r/∂p) p = φ_r − MSF·φ̄_t at the sensors, scaled by 1/‖φ_r‖ and by
+/// [`SHAPE_ROW_WEIGHT`]. ∂φ_r/∂p_j by Fox and Kapoor's modal expansion over
+/// the computed modes: Σ_{s≠r} φ_s φ_sᵀ(∂K_j − λ_r ∂M_j)φ_r/(λ_r − λ_s)
+/// − ½ (φ_rᵀ∂M_jφ_r) φ_r. Frequencies alone see the sum of symmetric
+/// parameters (left and right wing); the shapes see their difference.
+fn append_shape_rows(
+    rows: &mut (Mat<f64>, Vec<f64>),
+    fe: &FeModel,
+    modes: &Modes,
+    pairs: &[Option<super::ModePair>],
+    test_shapes: &[Vec<f64>],
+    equations: &[usize],
+    r_used: usize,
+) {
+    let all: Vec<usize> = (0..modes.len()).collect();
+    let sens = ModalSensitivities::project(&fe.parameters, modes.shapes.as_ref(), &all);
+    let np = fe.parameters.len();
+    let mut extra: Vec<(Vec<f64>, f64)> = Vec::new();
+    for (t, pair) in pairs.iter().enumerate().take(r_used) {
+        let Some(p) = pair.as_ref().filter(|p| p.mac >= FREQUENCY_STAGE_MAC) else {
+            continue;
+        };
+        let r = p.fe;
+        let lam = modes.omega2[r];
+        let phi: Vec<f64> = equations.iter().map(|&i| modes.shapes[(i, r)]).collect();
+        let test = &test_shapes[t];
+        let tt: f64 = test.iter().map(|x| x * x).sum();
+        let nphi = phi.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(tt > 0.0 && nphi > 0.0) || test.len() != phi.len() {
+            continue;
+        }
+        let msf = phi.iter().zip(test).map(|(a, b)| a * b).sum::<f64>() / tt;
+        // d[j][e]: ∂φ_r/∂p_j at sensor e.
+        let mut d = vec![vec![0.0; phi.len()]; np];
+        for (j, dj) in d.iter_mut().enumerate() {
+            for s in 0..modes.len() {
+                let c = if s == r {
+                    -0.5 * sens.dm[j][(r, r)]
+                } else {
+                    let gap = lam - modes.omega2[s];
+                    if gap.abs() < 1e-6 * lam.abs().max(1e-12) {
+                        continue;
+                    }
+                    (sens.dk[j][(s, r)] - lam * sens.dm[j][(s, r)]) / gap
+                };
+                for (e, &i) in equations.iter().enumerate() {
+                    dj[e] += c * modes.shapes[(i, s)];
+                }
+            }
+        }
+        for e in 0..phi.len() {
+            let w = SHAPE_ROW_WEIGHT / nphi;
+            extra.push((
+                (0..np).map(|j| -d[j][e] * w).collect(),
+                (phi[e] - msf * test[e]) * w,
+            ));
+        }
+    }
+    if extra.is_empty() {
+        return;
+    }
+    let (a, b) = rows;
+    let m0 = a.nrows();
+    let a2 = Mat::from_fn(m0 + extra.len(), np, |i, j| {
+        if i < m0 {
+            a[(i, j)]
+        } else {
+            extra[i - m0].0[j]
+        }
+    });
+    b.extend(extra.iter().map(|(_, v)| *v));
+    *a = a2;
 }
 
 /// A_h, b_h, plus the normalised frequency rows when asked (Eq. 21–22).
@@ -553,7 +727,8 @@ fn assemble(
     }
     let mut rows: Vec<(Vec<f64>, f64)> = Vec::new();
     for (t, pair) in pairs.iter().enumerate().take(r_used) {
-        if let Some(p) = pair {
+        // Only clear pairs: one wrong pair drives every parameter astray.
+        if let Some(p) = pair.as_ref().filter(|p| p.mac >= FREQUENCY_STAGE_MAC) {
             let w2_test = (TWO_PI * test_hz[t]).powi(2);
             rows.push(frequency_equation(
                 &fe.parameters,

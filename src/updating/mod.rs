@@ -11,6 +11,7 @@
 
 pub mod correlation;
 pub mod frequencies;
+pub mod identify;
 pub mod iterate;
 pub mod measured;
 pub mod output;
@@ -57,6 +58,11 @@ pub struct UpdateOptions {
     pub inverse: InverseMethod,
     /// ε of the SVD gap rule σ_{r+1}/σ_r < ε (Eq. 40).
     pub svd_eps: f64,
+    /// Tikhonov damping μ/σ₁ of each FRF-stage step (rows μ I added to
+    /// Eq. 35; 0: the paper's undamped SVD solution). Bounds the step along
+    /// directions the equations barely see, which noise and unmodelled
+    /// physics otherwise blow up.
+    pub damping: f64,
     /// ε of the stopping rule max_j |p_j| < ε (Eq. 49).
     pub tol: f64,
     /// Maximum number of updating steps.
@@ -64,6 +70,8 @@ pub struct UpdateOptions {
     /// Modes whose measured partition adds less than this fraction of the
     /// largest measured-partition norm to the basis are left out (SEREP).
     pub basis_tolerance: f64,
+    /// How the test's resonances (and their shapes, for pairing) are found.
+    pub resonance_method: ResonanceMethod,
     /// Minimum peak-to-valley ratio for a measured resonance.
     pub min_prominence: f64,
     /// Minimum MAC for pairing a test resonance with an FE mode.
@@ -84,12 +92,34 @@ impl Default for UpdateOptions {
             weighting: FrfWeighting::None,
             inverse: InverseMethod::Svd,
             svd_eps: 1e-4,
+            damping: 0.0,
             tol: 0.01,
             max_iter: 20,
             basis_tolerance: 1e-3,
+            resonance_method: ResonanceMethod::PeakPicking,
             min_prominence: 2.0,
             mac_min: 0.6,
             max_parameter: 10.0,
+        }
+    }
+}
+
+/// How the test's resonances are found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ResonanceMethod {
+    /// The paper's way: peaks of the summed mobility indicator, half-power
+    /// damping, operating deflection shapes at the peak lines.
+    PeakPicking,
+    /// A multi-channel pole–residue fit ([`identify`]): finds weak modes and
+    /// separates close ones; shapes from the residues.
+    ModalFit,
+}
+
+impl ResonanceMethod {
+    pub fn name(self) -> &'static str {
+        match self {
+            ResonanceMethod::PeakPicking => "peaks",
+            ResonanceMethod::ModalFit => "fit",
         }
     }
 }
