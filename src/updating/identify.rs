@@ -35,6 +35,9 @@ use faer::c64;
 use super::frequencies::Resonance;
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+/// Indicator prominence of a candidate that starts a pole in its
+/// neighbours' bands too.
+const STRONG_CANDIDATE: f64 = 1.25;
 
 /// Settings of the identification.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,11 +128,16 @@ pub fn identify_modes(
     let candidates = candidates(lines_hz, indicator, opts.candidate_prominence);
     let start = first_positive(lines_hz) + 1;
     let mut modes: Vec<IdentifiedMode> = Vec::new();
-    for &k in &candidates {
-        // The band: ±max(8 lines, 6 % of f) around the candidate, with every
-        // candidate inside it as a starting pole; the poles kept are those in
-        // the band's middle half (the edges are fitted by the next band).
+    let mut covered_hi = f64::NEG_INFINITY;
+    for &(k, _) in &candidates {
+        // The band: ±max(8 lines, 6 % of f) around the candidate; starting
+        // poles are the candidate and the clear peaks (prominence ≥
+        // STRONG_CANDIDATE) inside the band; the poles kept are those in the
+        // band's middle half, whose candidates need no band of their own.
         let f = lines_hz[k];
+        if f <= covered_hi {
+            continue;
+        }
         let hw = ((0.06 * f / df).ceil() as usize).max(8);
         let lo = k.saturating_sub(hw).max(start);
         let hi = (k + hw).min(n - 1);
@@ -138,14 +146,15 @@ pub fn identify_modes(
         }
         let freqs: Vec<f64> = candidates
             .iter()
-            .filter(|&&j| j >= lo && j <= hi)
-            .map(|&j| lines_hz[j])
+            .filter(|&&(j, p)| j >= lo && j <= hi && (j == k || p >= STRONG_CANDIDATE))
+            .map(|&(j, _)| lines_hz[j])
             .collect();
         let band = Band::new(lines_hz, receptance, &acc_rms, lo, hi);
         let (keep_lo, keep_hi) = (
             lines_hz[k.saturating_sub(hw / 2).max(lo)] - 0.5 * df,
             lines_hz[(k + hw / 2).min(hi)] + 0.5 * df,
         );
+        covered_hi = keep_hi;
         modes.extend(
             band.identify(&freqs, opts, df)
                 .into_iter()
@@ -186,7 +195,7 @@ fn median_spacing(x: &[f64]) -> f64 {
 
 /// Local maxima of the indicator with prominence ≥ `min_prominence` (above
 /// 0 Hz).
-fn candidates(lines_hz: &[f64], y: &[f64], min_prominence: f64) -> Vec<usize> {
+fn candidates(lines_hz: &[f64], y: &[f64], min_prominence: f64) -> Vec<(usize, f64)> {
     let n = lines_hz.len().min(y.len());
     let mut out = Vec::new();
     for i in 1..n.saturating_sub(1) {
@@ -205,8 +214,13 @@ fn candidates(lines_hz: &[f64], y: &[f64], min_prominence: f64) -> Vec<usize> {
             }
         };
         let base = valley(-1).max(valley(1));
-        if base <= 0.0 || y[i] / base >= min_prominence {
-            out.push(i);
+        let prominence = if base > 0.0 {
+            y[i] / base
+        } else {
+            f64::INFINITY
+        };
+        if prominence >= min_prominence {
+            out.push((i, prominence));
         }
     }
     out
