@@ -329,7 +329,7 @@ pub fn nearest_line(lines_hz: &[f64], f: f64) -> usize {
 }
 
 /// Median spacing of the lines (Hz).
-fn line_spacing(lines_hz: &[f64]) -> f64 {
+pub(crate) fn line_spacing(lines_hz: &[f64]) -> f64 {
     let mut d: Vec<f64> = lines_hz.windows(2).map(|w| w[1] - w[0]).collect();
     if d.is_empty() {
         return 0.0;

@@ -100,7 +100,7 @@ pub fn identify_modes(
     if n < 8 || receptance.is_empty() {
         return Vec::new();
     }
-    let df = median_spacing(lines_hz);
+    let df = super::frequencies::line_spacing(lines_hz);
     if !(df > 0.0) {
         return Vec::new();
     }
@@ -182,15 +182,6 @@ pub fn identify_modes(
 
 fn first_positive(lines_hz: &[f64]) -> usize {
     lines_hz.iter().position(|&f| f > 0.0).unwrap_or(0)
-}
-
-fn median_spacing(x: &[f64]) -> f64 {
-    let mut d: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-    if d.is_empty() {
-        return 0.0;
-    }
-    d.sort_by(f64::total_cmp);
-    d[d.len() / 2]
 }
 
 /// Local maxima of the indicator with prominence ≥ `min_prominence` (above
