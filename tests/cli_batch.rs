@@ -202,4 +202,21 @@ fn a_bad_campaign_file_names_file_and_line() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("modez"));
+    std::fs::write(
+        &path,
+        "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\ndamping = 0.05\nresonance-method = \"magic\"\n",
+    )
+    .unwrap();
+    let out = frfup(&[
+        "batch",
+        path.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("resonance-method") && err.contains("fit"),
+        "{err}"
+    );
 }

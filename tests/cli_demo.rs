@@ -31,6 +31,7 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
             .unwrap();
+    assert_eq!(report["options"]["resonance_method"], "fit");
     let its = report["iterations"].as_array().unwrap();
     let before = its[0]["sfdac_mean"].as_f64().unwrap();
     let fin = report["final_iteration"].as_u64().unwrap() as usize;

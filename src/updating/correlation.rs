@@ -175,4 +175,18 @@ mod tests {
         assert_eq!(p[1].as_ref().unwrap().fe, 0);
         assert!(p[0].as_ref().unwrap().mac > 0.99);
     }
+
+    /// A spatially aliased FE mode (same shape at the sensors, 10× the
+    /// frequency) is not a partner, however high its MAC.
+    #[test]
+    fn pairing_ignores_modes_outside_the_frequency_window() {
+        let test = vec![vec![1.0, 1.0]];
+        let fe = vec![vec![1.0, 1.0], vec![1.0, 0.8]];
+        let p = pair_modes(&test, &[37.0], &fe, &[346.0, 34.0], 0.6);
+        let pair = p[0].as_ref().unwrap();
+        assert_eq!(pair.fe, 1, "{pair:?}");
+        // Nothing within ±30 %: unpaired.
+        let p = pair_modes(&test, &[37.0], &fe[..1], &[346.0], 0.6);
+        assert!(p[0].is_none());
+    }
 }
