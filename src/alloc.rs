@@ -1,0 +1,297 @@
+//! The `frfup` binary's allocator: the system allocator, except that while a
+//! UFF file is read ([`huge_pages_for_reading`]) blocks of 32 KiB to 16 MiB
+//! are carved from 64 MiB regions advised for transparent huge pages.
+//!
+//! Reading decodes tens of MB into fresh memory. With 4 KiB pages each page
+//! costs a fault: 7,700 faults for a 13 MB 58b file, 28 ms of kernel time
+//! against 5 ms of parsing. A region is faulted in 2 MiB at a time. Only
+//! allocations made inside the reading scope use regions, so solvers and long
+//! batch runs keep the system allocator's reuse of freed memory. A region is
+//! unmapped when its last block is freed; its blocks are never reused one by
+//! one (a bump allocator), which costs nothing for decoded data that lives as
+//! long as the file's records.
+//!
+//! Elsewhere than Linux, or if `mmap` fails, everything goes to the system
+//! allocator.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::UnsafeCell;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+
+/// Install with `#[global_allocator]` in a binary.
+pub struct FrfupAllocator;
+
+/// Size of a region (a multiple of [`HUGE_PAGE`]).
+const REGION: usize = 64 << 20;
+/// Transparent huge page size on x86-64 and aarch64 (4 KiB base pages).
+const HUGE_PAGE: usize = 2 << 20;
+/// Smallest block served from a region.
+const MIN_BLOCK: usize = 32 << 10;
+/// Largest block served from a region (larger ones are mmap'd by the system).
+const MAX_BLOCK: usize = 16 << 20;
+const MAX_REGIONS: usize = 64;
+
+/// Nesting depth of [`huge_pages_for_reading`] scopes (all threads).
+static READING: AtomicUsize = AtomicUsize::new(0);
+/// Regions currently mapped (fast path of `dealloc`).
+static MAPPED: AtomicUsize = AtomicUsize::new(0);
+static LOCK: AtomicBool = AtomicBool::new(false);
+
+#[derive(Clone, Copy)]
+struct Region {
+    /// Start of the mapping (0: free slot) and its length.
+    map: usize,
+    map_len: usize,
+    /// First huge-page-aligned byte: blocks live in [base, base + REGION).
+    base: usize,
+    live: usize,
+}
+
+struct State {
+    regions: [Region; MAX_REGIONS],
+    /// The region blocks are bumped from, and its first free offset.
+    current: Option<usize>,
+    top: usize,
+}
+
+struct Shared(UnsafeCell<State>);
+// SAFETY: every access goes through `with_state`, which holds `LOCK`.
+unsafe impl Sync for Shared {}
+
+static STATE: Shared = Shared(UnsafeCell::new(State {
+    regions: [Region {
+        map: 0,
+        map_len: 0,
+        base: 0,
+        live: 0,
+    }; MAX_REGIONS],
+    current: None,
+    top: 0,
+}));
+
+fn with_state<R>(f: impl FnOnce(&mut State) -> R) -> R {
+    while LOCK
+        .compare_exchange_weak(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        std::hint::spin_loop();
+    }
+    // SAFETY: the lock is held; `f` does not allocate.
+    let r = f(unsafe { &mut *STATE.0.get() });
+    LOCK.store(false, Ordering::Release);
+    r
+}
+
+/// Runs `f` with large allocations (of every thread) in huge-page regions.
+pub fn huge_pages_for_reading<R>(f: impl FnOnce() -> R) -> R {
+    struct Scope;
+    impl Drop for Scope {
+        fn drop(&mut self) {
+            READING.fetch_sub(1, Ordering::Relaxed);
+        }
+    }
+    READING.fetch_add(1, Ordering::Relaxed);
+    let _scope = Scope;
+    f()
+}
+
+fn eligible(layout: &Layout) -> bool {
+    cfg!(target_os = "linux")
+        && (MIN_BLOCK..=MAX_BLOCK).contains(&layout.size())
+        && layout.align() <= 4096
+}
+
+#[cfg(target_os = "linux")]
+fn map_region() -> Option<(usize, usize, usize)> {
+    let len = REGION + HUGE_PAGE;
+    // SAFETY: an anonymous private mapping; the result is checked.
+    let p = unsafe {
+        libc::mmap(
+            std::ptr::null_mut(),
+            len,
+            libc::PROT_READ | libc::PROT_WRITE,
+            libc::MAP_PRIVATE | libc::MAP_ANONYMOUS,
+            -1,
+            0,
+        )
+    };
+    if p == libc::MAP_FAILED {
+        return None;
+    }
+    let map = p as usize;
+    let base = (map + HUGE_PAGE - 1) & !(HUGE_PAGE - 1);
+    // SAFETY: [base, base + REGION) lies inside the mapping. Advice only.
+    unsafe {
+        libc::madvise(base as *mut libc::c_void, REGION, libc::MADV_HUGEPAGE);
+    }
+    Some((map, len, base))
+}
+
+#[cfg(not(target_os = "linux"))]
+fn map_region() -> Option<(usize, usize, usize)> {
+    None
+}
+
+fn unmap(r: &Region) {
+    #[cfg(target_os = "linux")]
+    // SAFETY: the region's own mapping, with no live blocks.
+    unsafe {
+        libc::munmap(r.map as *mut libc::c_void, r.map_len);
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = r;
+}
+
+impl State {
+    fn bump(&mut self, layout: &Layout) -> Option<usize> {
+        let c = self.current?;
+        let r = &mut self.regions[c];
+        let align = layout.align().max(16);
+        let start = (r.base + self.top + align - 1) & !(align - 1);
+        if start + layout.size() > r.base + REGION {
+            return None;
+        }
+        self.top = start + layout.size() - r.base;
+        r.live += 1;
+        Some(start)
+    }
+
+    fn alloc(&mut self, layout: &Layout) -> Option<usize> {
+        if let Some(p) = self.bump(layout) {
+            return Some(p);
+        }
+        let slot = self.regions.iter().position(|r| r.map == 0)?;
+        let (map, map_len, base) = map_region()?;
+        if let Some(c) = self.current {
+            if self.regions[c].live == 0 {
+                unmap(&self.regions[c]);
+                self.regions[c].map = 0;
+                MAPPED.fetch_sub(1, Ordering::Relaxed);
+            }
+        }
+        self.regions[slot] = Region {
+            map,
+            map_len,
+            base,
+            live: 0,
+        };
+        MAPPED.fetch_add(1, Ordering::Relaxed);
+        self.current = Some(slot);
+        self.top = 0;
+        self.bump(layout)
+    }
+
+    fn region_of(&self, p: usize) -> Option<usize> {
+        self.regions
+            .iter()
+            .position(|r| r.map != 0 && p >= r.base && p < r.base + REGION)
+    }
+
+    /// Frees a region block; false if `p` is not in a region.
+    fn free(&mut self, p: usize) -> bool {
+        let Some(i) = self.region_of(p) else {
+            return false;
+        };
+        let r = &mut self.regions[i];
+        r.live -= 1;
+        if r.live == 0 {
+            if self.current == Some(i) {
+                self.top = 0;
+            } else {
+                unmap(r);
+                r.map = 0;
+                MAPPED.fetch_sub(1, Ordering::Relaxed);
+            }
+        }
+        true
+    }
+}
+
+// SAFETY: blocks come either from `System` or from a region mapping that
+// stays mapped while any of its blocks is live; `dealloc` and `realloc` tell
+// the two apart by address.
+unsafe impl GlobalAlloc for FrfupAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if READING.load(Ordering::Relaxed) > 0 && eligible(&layout) {
+            if let Some(p) = with_state(|s| s.alloc(&layout)) {
+                return p as *mut u8;
+            }
+        }
+        // SAFETY: forwarded as received.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        if MAPPED.load(Ordering::Relaxed) > 0
+            && eligible(&layout)
+            && with_state(|s| s.free(ptr as usize))
+        {
+            return;
+        }
+        // SAFETY: not a region block, so it came from System.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        // SAFETY: the caller guarantees a valid layout for `new_size`.
+        let new_layout = unsafe { Layout::from_size_align_unchecked(new_size, layout.align()) };
+        let in_region = MAPPED.load(Ordering::Relaxed) > 0
+            && eligible(&layout)
+            && with_state(|s| s.region_of(ptr as usize).is_some());
+        let to_region = READING.load(Ordering::Relaxed) > 0 && eligible(&new_layout);
+        if !in_region && !to_region {
+            // SAFETY: a System block, forwarded as received.
+            return unsafe { System.realloc(ptr, layout, new_size) };
+        }
+        // SAFETY: `self.alloc`/`self.dealloc` pair up as above; the copy
+        // stays within both blocks.
+        unsafe {
+            let new = self.alloc(new_layout);
+            if !new.is_null() {
+                std::ptr::copy_nonoverlapping(ptr, new, layout.size().min(new_size));
+                self.dealloc(ptr, layout);
+            }
+            new
+        }
+    }
+}
+
+#[cfg(all(test, target_os = "linux"))]
+mod tests {
+    use super::*;
+
+    /// Blocks made while reading come from regions, keep their contents
+    /// through realloc, respect alignment, and the region is unmapped when its
+    /// last block goes (the current region is kept for reuse).
+    #[test]
+    fn reading_scope_uses_regions_and_frees_them() {
+        let a = FrfupAllocator;
+        let big = Layout::from_size_align(100_000, 64).unwrap();
+        let small = Layout::from_size_align(100, 8).unwrap();
+        unsafe {
+            // Outside the scope: the system allocator.
+            let p = a.alloc(big);
+            assert!(!with_state(|s| s.region_of(p as usize).is_some()));
+            a.dealloc(p, big);
+            let (p, q, s) = huge_pages_for_reading(|| (a.alloc(big), a.alloc(big), a.alloc(small)));
+            assert!(with_state(|st| st.region_of(p as usize).is_some()));
+            assert!(with_state(|st| st.region_of(q as usize).is_some()));
+            assert!(!with_state(|st| st.region_of(s as usize).is_some()));
+            assert_eq!(p as usize % 64, 0);
+            assert!(q as usize >= p as usize + 100_000);
+            for i in 0..100_000 {
+                *p.add(i) = (i % 251) as u8;
+            }
+            // Growing a region block outside the scope moves it to System.
+            let r = a.realloc(p, big, 300_000);
+            assert!(!with_state(|st| st.region_of(r as usize).is_some()));
+            for i in 0..100_000 {
+                assert_eq!(*r.add(i), (i % 251) as u8);
+            }
+            a.dealloc(r, Layout::from_size_align(300_000, 64).unwrap());
+            a.dealloc(q, big);
+            a.dealloc(s, small);
+            assert_eq!(with_state(|st| st.top), 0, "current region reset");
+        }
+    }
+}
