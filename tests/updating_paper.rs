@@ -215,6 +215,14 @@ const FRAME3D_FREQS: [f64; 8] = [1.6, 3.5, 13.0, 46.0, 80.0, 106.0, 163.0, 230.0
 const FRAME3D_EXACT: [f64; 6] = [-0.2, 0.2, 0.3, -0.1, 0.5, 0.6];
 
 fn frame3d(noise: f64) -> UpdateResult {
+    frame3d_seeded(noise, 2024)
+}
+
+fn frame3d_seeded(noise: f64, seed: u64) -> UpdateResult {
+    frame3d_with(noise, seed, &|_| {})
+}
+
+fn frame3d_with(noise: f64, seed: u64, tweak: &dyn Fn(&mut UpdateOptions)) -> UpdateResult {
     let d = deck("frame3d.deck");
     let names = ["p1", "p2", "p3", "p4", "p5", "p6"];
     let truth: ParameterValues = names
@@ -225,7 +233,7 @@ fn frame3d(noise: f64) -> UpdateResult {
     let nodes: Vec<u32> = (2..=30).collect();
     let mut test = measure(&d, &truth, 30, &nodes, band(400.0, 0.05));
     if noise > 0.0 {
-        add_noise(&mut test, noise, 2024);
+        add_noise(&mut test, noise, seed);
     }
     // Noisy data: weight every updating frequency alike (the raw Eq. 11 rows
     // scale like 1/ω², so noise at the lowest frequency would drive the solution).
@@ -234,13 +242,16 @@ fn frame3d(noise: f64) -> UpdateResult {
     } else {
         FrfWeighting::None
     };
-    let opts = UpdateOptions {
+    let mut opts = UpdateOptions {
         frequencies_hz: Some(FRAME3D_FREQS.to_vec()),
         weighting,
         ..UpdateOptions::default()
     };
+    tweak(&mut opts);
     let r = update(&d, &test, &opts).unwrap();
-    show(&format!("frame3d noise {noise}"), &r);
+    if seed == 2024 {
+        show(&format!("frame3d noise {noise}"), &r);
+    }
     r
 }
 
@@ -254,10 +265,28 @@ fn frame3d_table4_noise_free() {
     assert!(r.final_record().sfdac.mean > 0.999);
 }
 
+/// Options for noisy data: the natural-frequency equations (Eq. 16–22) pin
+/// the solution (1 % noise, 40 seeds: median largest error 0.083 with FRF
+/// equations only, 0.029 with them; the paper's one realisation: 0.023); at
+/// 5 % damped steps keep the bad realisations from diverging (median 0.24 →
+/// 0.14, 90th percentile 4.5 → 0.42; paper 0.15). `frame3d_noise_statistics`
+/// measures these.
+fn noisy_options(noise: f64) -> impl Fn(&mut UpdateOptions) {
+    move |o: &mut UpdateOptions| {
+        o.with_frequencies = true;
+        if noise >= 0.05 {
+            o.damping = 0.05;
+            o.tol = 0.001;
+            o.max_iter = 40;
+        }
+    }
+}
+
 #[test]
 fn frame3d_table4_noise_1_and_5_percent() {
-    for (noise, bound) in [(0.01, 0.1), (0.05, 0.3)] {
-        let r = frame3d(noise);
+    // Bounds: about twice the paper's Table 4 (0.023, 0.15) for this seed.
+    for (noise, bound) in [(0.01, 0.05), (0.05, 0.3)] {
+        let r = frame3d_with(noise, 2024, &noisy_options(noise));
         let err = r
             .parameters()
             .iter()
@@ -266,5 +295,40 @@ fn frame3d_table4_noise_1_and_5_percent() {
             .fold(0.0, f64::max);
         eprintln!("noise {noise}: max parameter error {err:.4}");
         assert!(err <= bound, "noise {noise}: max error {err}");
+    }
+}
+
+/// The paper's Table 4 gives one noise realisation; this spreads ours over
+/// 40 seeds: median and 90th percentile of the largest parameter error. Run
+/// with `cargo test --release --test updating_paper -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn frame3d_noise_statistics() {
+    let variants: Vec<(&str, Box<dyn Fn(&mut UpdateOptions)>)> = vec![
+        ("FRF equations only", Box::new(|_| {})),
+        ("with frequencies", Box::new(|o| o.with_frequencies = true)),
+        (
+            "with frequencies, damping 0.05",
+            Box::new(|o| noisy_options(0.05)(o)),
+        ),
+    ];
+    for (name, tweak) in &variants {
+        for noise in [0.01, 0.05] {
+            let mut errs: Vec<f64> = (1..=40u64)
+                .map(|seed| {
+                    frame3d_with(noise, seed, tweak.as_ref())
+                        .parameters()
+                        .iter()
+                        .zip(FRAME3D_EXACT)
+                        .map(|(p, e)| (p - e).abs())
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            errs.sort_by(f64::total_cmp);
+            eprintln!(
+                "{name}, noise {noise}: largest parameter error over 40 seeds: min {:.4}, median {:.4}, 90th percentile {:.4}, max {:.4}",
+                errs[0], errs[20], errs[36], errs[39]
+            );
+        }
     }
 }
