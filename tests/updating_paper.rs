@@ -304,7 +304,8 @@ fn frame3d_table4_noise_1_and_5_percent() {
 #[test]
 #[ignore]
 fn frame3d_noise_statistics() {
-    let variants: Vec<(&str, Box<dyn Fn(&mut UpdateOptions)>)> = vec![
+    type Tweak = Box<dyn Fn(&mut UpdateOptions)>;
+    let variants: Vec<(&str, Tweak)> = vec![
         ("FRF equations only", Box::new(|_| {})),
         ("with frequencies", Box::new(|o| o.with_frequencies = true)),
         (
