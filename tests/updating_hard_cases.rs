@@ -1,0 +1,159 @@
+//! Bad input and hard cases of `update` (issue: "Bad input and hard cases"):
+//! each is an error or a warning that names what is wrong.
+
+use frfup::model::ParameterValues;
+use frfup::parsers::deck::{parse, Deck};
+use frfup::simulate::{simulate, Band, Campaign, NodeDirection, Sensors};
+use frfup::testdata::{FrfKind, MeasuredFrfs};
+use frfup::updating::{update, UpdateError, UpdateOptions, UpdateWarning};
+
+fn cantilever(extra: &str) -> Deck {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/paper/cantilever.deck");
+    parse(&(std::fs::read_to_string(path).unwrap() + extra)).unwrap()
+}
+
+fn measure(deck: &Deck, truth: &[(&str, f64)], nodes: &[u32]) -> MeasuredFrfs {
+    let truth: ParameterValues = truth.iter().map(|(n, v)| (n.to_string(), *v)).collect();
+    let campaign = Campaign {
+        input: NodeDirection {
+            node: 16,
+            direction: 3,
+        },
+        band: Band {
+            start_hz: 0.0,
+            end_hz: 250.0,
+            count: 5001,
+        },
+        output: FrfKind::Accelerance,
+        sensors: Sensors::List(
+            nodes
+                .iter()
+                .map(|&node| NodeDirection { node, direction: 3 })
+                .collect(),
+        ),
+        noise: 0.0,
+        seed: 1,
+    };
+    simulate(deck, &truth, &campaign).unwrap()
+}
+
+fn opts() -> UpdateOptions {
+    UpdateOptions {
+        resonances: Some(6),
+        ..UpdateOptions::default()
+    }
+}
+
+#[test]
+fn excitation_not_measured_is_an_error_naming_it() {
+    let d = cantilever("");
+    let nodes: Vec<u32> = (2..=15).collect();
+    let test = measure(&d, &[("p3", 1.0)], &nodes);
+    let e = update(&d, &test, &opts()).unwrap_err();
+    assert!(
+        matches!(e, UpdateError::ExcitationNotMeasured { .. }),
+        "{e}"
+    );
+    let msg = e.to_string();
+    assert!(msg.contains("16") && msg.contains("driving-point"), "{msg}");
+}
+
+#[test]
+fn channels_matching_no_dof_are_listed_and_ignored() {
+    let d = cantilever("");
+    let nodes: Vec<u32> = (2..=16).collect();
+    let mut test = measure(&d, &[("p3", 1.0)], &nodes);
+    let mut stray = test.channels[0].clone();
+    stray.response_node = 99;
+    test.channels.push(stray);
+    let r = update(&d, &test, &opts()).unwrap();
+    let listed = r.warnings.iter().any(|w| {
+        matches!(w, UpdateWarning::UnmatchedChannels { labels } if labels.len() == 1 && labels[0].contains("99"))
+    });
+    assert!(listed, "{:?}", r.warnings);
+    // The other channels still update the model: p3 → 1 (exact 1.0).
+    assert!(
+        (r.parameters()[2] - 1.0).abs() < 0.01,
+        "{:?}",
+        r.parameters()
+    );
+}
+
+#[test]
+fn parameters_the_equations_cannot_tell_apart_are_named() {
+    // p3b acts on the same elements and quantity as p3: only p3 + p3b is seen.
+    let d = cantilever("param p3b Iy 7-9\n");
+    let nodes: Vec<u32> = (2..=16).collect();
+    let test = measure(&d, &[("p3", 1.0)], &nodes);
+    let r = update(&d, &test, &opts()).unwrap();
+    let named = r.warnings.iter().find_map(|w| match w {
+        UpdateWarning::Indistinguishable { combinations, .. } => Some(combinations.clone()),
+        _ => None,
+    });
+    let combos = named.expect("an Indistinguishable warning");
+    assert!(
+        combos.iter().any(|c| {
+            let names: Vec<&str> = c.iter().map(|(n, _)| n.as_str()).collect();
+            names.contains(&"p3") && names.contains(&"p3b")
+        }),
+        "{combos:?}"
+    );
+    // The combination the data do see is recovered: (1 + p3)(1 + p3b) = 2.
+    let p = r.parameters();
+    assert!(((1.0 + p[2]) * (1.0 + p[5]) - 2.0).abs() < 0.02, "{p:?}");
+}
+
+#[test]
+fn a_step_that_would_make_a_stiffness_negative_is_limited_and_reported() {
+    // Elements 1-3 and 7-9 are 100 times softer than the deck says: the first
+    // linearised step overshoots below -1 (a negative stiffness). It is
+    // scaled back, reported, and the iteration still reaches the truth.
+    let d = cantilever("");
+    let nodes: Vec<u32> = (2..=16).collect();
+    let test = measure(&d, &[("p3", -0.99), ("p1", -0.99)], &nodes);
+    let r = update(&d, &test, &opts()).unwrap();
+    let limited = r.warnings.iter().find_map(|w| match w {
+        UpdateWarning::StepLimited {
+            parameters, scale, ..
+        } => Some((parameters.clone(), *scale)),
+        _ => None,
+    });
+    let (names, scale) = limited.expect("a StepLimited warning");
+    assert!(!names.is_empty() && scale < 1.0, "{names:?} {scale}");
+    let p = r.parameters();
+    assert!(p.iter().all(|&x| 1.0 + x > 0.0), "{p:?}");
+    assert!(
+        (p[0] + 0.99).abs() < 1e-3 && (p[2] + 0.99).abs() < 1e-3,
+        "{p:?}"
+    );
+}
+
+#[test]
+fn divergence_stops_keeps_the_best_iteration_and_says_so() {
+    // The plain method on the GARTEUR-like campaign (5-11 % off, close modes,
+    // suspension the free-free deck lacks) does not converge.
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
+    let d = parse(&std::fs::read_to_string(root.join("garteur.deck")).unwrap()).unwrap();
+    let test = frfup::testdata::load(&root.join("campaign.uff")).unwrap();
+    let r = update(&d, &test, &UpdateOptions::default()).unwrap();
+    assert!(!r.converged);
+    let said = r.warnings.iter().find_map(|w| match w {
+        UpdateWarning::Diverged { best, .. } | UpdateWarning::ParameterExploded { best, .. } => {
+            Some(*best)
+        }
+        _ => None,
+    });
+    let best = said.expect("a Diverged or ParameterExploded warning");
+    assert_eq!(r.final_iteration, best);
+    let top = r
+        .iterations
+        .iter()
+        .map(|i| i.sfdac.mean)
+        .fold(f64::MIN, f64::max);
+    assert_eq!(r.iterations[best].sfdac.mean, top);
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.to_string().contains("iteration")));
+}
