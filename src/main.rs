@@ -139,6 +139,9 @@ enum Command {
         /// At most this many extensions.
         #[arg(long, default_value_t = 4)]
         max_findings: usize,
+        /// Options of the first step, the update of the deck's own parameters.
+        #[command(flatten)]
+        args: UpdateArgs,
     },
     /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
     Batch {
@@ -422,12 +425,14 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             out,
             no_update,
             max_findings,
+            args,
         } => {
             let cmd = commands::diagnose::DiagnoseCommand {
                 deck,
                 test,
                 out: out.clone(),
                 options: frfup::diagnosis::DiagnoseOptions {
+                    update: args.options()?,
                     skip_update: no_update,
                     max_findings,
                     ..Default::default()

@@ -165,3 +165,43 @@ fn simulate_rejects_an_unknown_parameter_and_an_unknown_dof() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("99"));
     assert!(!out_path.exists());
 }
+
+/// `diagnose` takes the update's options for its first step; the missing 2 %
+/// modal damping is found (truth ζ = 0.02; measured 0.0200) and a bad option
+/// value is a usage error.
+#[test]
+fn diagnose_takes_update_options_and_finds_the_damping() {
+    let out_dir = tmp("diagnose-damping");
+    let out = frfup(&[
+        "diagnose",
+        &fixture("diagnose/damping.deck"),
+        &fixture("diagnose/damping.uff"),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--resonance-method",
+        "fit",
+        "--frequencies-first",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let d: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("diagnosis.json")).unwrap())
+            .unwrap();
+    let f = &d["findings"][0];
+    assert_eq!(f["physics"], "damping");
+    let zeta = f["parameters"]["zeta"].as_f64().unwrap();
+    assert!((zeta - 0.02).abs() < 0.006, "zeta {zeta}");
+    let out = frfup(&[
+        "diagnose",
+        &fixture("diagnose/damping.deck"),
+        &fixture("diagnose/damping.uff"),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--resonance-method",
+        "guess",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
