@@ -175,46 +175,31 @@ fn shards_split_the_campaign_deterministically_and_thresholds_give_exit_1() {
 fn a_bad_campaign_file_names_file_and_line() {
     let dir = workdir("bad");
     let path = dir.join("c.toml");
-    std::fs::write(
-        &path,
-        "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \n",
-    )
-    .unwrap();
-    let out = frfup(&[
-        "batch",
-        path.to_str().unwrap(),
-        "--out",
-        dir.join("o").to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    // Exit code and stderr of a batch run on the campaign `text`.
+    let run = |text: &str| {
+        std::fs::write(&path, text).unwrap();
+        let out = frfup(&[
+            "batch",
+            path.to_str().unwrap(),
+            "--out",
+            dir.join("o").to_str().unwrap(),
+        ]);
+        (
+            out.status.code(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    let (code, err) = run("[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \n");
+    assert_eq!(code, Some(2));
     assert!(err.contains("c.toml") && err.contains("line 4"), "{err}");
-    std::fs::write(
-        &path,
-        "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\nmodez = 3\n",
-    )
-    .unwrap();
-    let out = frfup(&[
-        "batch",
-        path.to_str().unwrap(),
-        "--out",
-        dir.join("o").to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("modez"));
-    std::fs::write(
-        &path,
+    let (code, err) =
+        run("[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\nmodez = 3\n");
+    assert_eq!(code, Some(2));
+    assert!(err.contains("modez"), "{err}");
+    let (code, err) = run(
         "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\ndamping = 0.05\nresonance-method = \"magic\"\n",
-    )
-    .unwrap();
-    let out = frfup(&[
-        "batch",
-        path.to_str().unwrap(),
-        "--out",
-        dir.join("o").to_str().unwrap(),
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
+    );
+    assert_eq!(code, Some(2));
     assert!(
         err.contains("resonance-method") && err.contains("fit"),
         "{err}"

@@ -172,16 +172,16 @@ fn simulate_rejects_an_unknown_parameter_and_an_unknown_dof() {
 #[test]
 fn diagnose_takes_update_options_and_finds_the_damping() {
     let out_dir = tmp("diagnose-damping");
-    let out = frfup(&[
-        "diagnose",
-        &fixture("diagnose/damping.deck"),
-        &fixture("diagnose/damping.uff"),
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--resonance-method",
-        "fit",
-        "--frequencies-first",
-    ]);
+    let (deck, uff) = (
+        fixture("diagnose/damping.deck"),
+        fixture("diagnose/damping.uff"),
+    );
+    let run = |options: &[&str]| {
+        let mut args = vec!["diagnose", &deck, &uff, "--out", out_dir.to_str().unwrap()];
+        args.extend_from_slice(options);
+        frfup(&args)
+    };
+    let out = run(&["--resonance-method", "fit", "--frequencies-first"]);
     assert!(
         out.status.success(),
         "{}",
@@ -194,14 +194,5 @@ fn diagnose_takes_update_options_and_finds_the_damping() {
     assert_eq!(f["physics"], "damping");
     let zeta = f["parameters"]["zeta"].as_f64().unwrap();
     assert!((zeta - 0.02).abs() < 0.006, "zeta {zeta}");
-    let out = frfup(&[
-        "diagnose",
-        &fixture("diagnose/damping.deck"),
-        &fixture("diagnose/damping.uff"),
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--resonance-method",
-        "guess",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(run(&["--resonance-method", "guess"]).status.code(), Some(2));
 }

@@ -11,9 +11,12 @@ use faer::c64;
 use frfup::model::ParameterValues;
 use frfup::parsers::deck::{parse, Deck};
 use frfup::report::{write_report, ReportInputs};
-use frfup::simulate::{simulate, Band, Campaign, Gaussian, NodeDirection, Sensors};
-use frfup::testdata::{FrfKind, MeasuredFrfs};
+use frfup::simulate::{simulate, Gaussian};
+use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, UpdateOptions, UpdateResult};
+
+mod campaign_support;
+use campaign_support::{band, z_campaign};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -41,29 +44,7 @@ const NOISE: f64 = 0.0005;
 /// twice as stiff as the deck says (the paper's Table 1 case), with NOISE.
 fn cantilever_test(deck: &Deck, channels: &[u32]) -> MeasuredFrfs {
     let truth: ParameterValues = [("p3".to_string(), 1.0)].into_iter().collect();
-    let campaign = Campaign {
-        input: NodeDirection {
-            node: 16,
-            direction: 3,
-        },
-        band: Band {
-            start_hz: 0.0,
-            end_hz: 250.0,
-            count: 2501,
-        },
-        output: FrfKind::Accelerance,
-        sensors: Sensors::List(
-            channels
-                .iter()
-                .map(|&n| NodeDirection {
-                    node: n,
-                    direction: 3,
-                })
-                .collect(),
-        ),
-        noise: 0.0,
-        seed: 1,
-    };
+    let campaign = z_campaign(16, channels, band(250.0, 2501));
     let mut test = simulate(deck, &truth, &campaign).unwrap();
     let mut g = Gaussian::new(7);
     for ch in &mut test.channels {

@@ -3,9 +3,12 @@
 
 use frfup::model::ParameterValues;
 use frfup::parsers::deck::{parse, Deck};
-use frfup::simulate::{simulate, Band, Campaign, NodeDirection, Sensors};
-use frfup::testdata::{FrfKind, MeasuredFrfs};
+use frfup::simulate::simulate;
+use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, UpdateError, UpdateOptions, UpdateWarning};
+
+mod campaign_support;
+use campaign_support::{band, z_campaign};
 
 fn cantilever(extra: &str) -> Deck {
     let path =
@@ -15,27 +18,16 @@ fn cantilever(extra: &str) -> Deck {
 
 fn measure(deck: &Deck, truth: &[(&str, f64)], nodes: &[u32]) -> MeasuredFrfs {
     let truth: ParameterValues = truth.iter().map(|(n, v)| (n.to_string(), *v)).collect();
-    let campaign = Campaign {
-        input: NodeDirection {
-            node: 16,
-            direction: 3,
-        },
-        band: Band {
-            start_hz: 0.0,
-            end_hz: 250.0,
-            count: 5001,
-        },
-        output: FrfKind::Accelerance,
-        sensors: Sensors::List(
-            nodes
-                .iter()
-                .map(|&node| NodeDirection { node, direction: 3 })
-                .collect(),
-        ),
-        noise: 0.0,
-        seed: 1,
-    };
-    simulate(deck, &truth, &campaign).unwrap()
+    simulate(deck, &truth, &z_campaign(16, nodes, band(250.0, 5001))).unwrap()
+}
+
+/// The cantilever (with `extra` deck lines) and its test at nodes 2..=`last`
+/// for the true relative changes `truth`.
+fn case(extra: &str, truth: &[(&str, f64)], last: u32) -> (Deck, MeasuredFrfs) {
+    let d = cantilever(extra);
+    let nodes: Vec<u32> = (2..=last).collect();
+    let test = measure(&d, truth, &nodes);
+    (d, test)
 }
 
 fn opts() -> UpdateOptions {
@@ -47,9 +39,7 @@ fn opts() -> UpdateOptions {
 
 #[test]
 fn excitation_not_measured_is_an_error_naming_it() {
-    let d = cantilever("");
-    let nodes: Vec<u32> = (2..=15).collect();
-    let test = measure(&d, &[("p3", 1.0)], &nodes);
+    let (d, test) = case("", &[("p3", 1.0)], 15);
     let e = update(&d, &test, &opts()).unwrap_err();
     assert!(
         matches!(e, UpdateError::ExcitationNotMeasured { .. }),
@@ -61,9 +51,7 @@ fn excitation_not_measured_is_an_error_naming_it() {
 
 #[test]
 fn channels_matching_no_dof_are_listed_and_ignored() {
-    let d = cantilever("");
-    let nodes: Vec<u32> = (2..=16).collect();
-    let mut test = measure(&d, &[("p3", 1.0)], &nodes);
+    let (d, mut test) = case("", &[("p3", 1.0)], 16);
     let mut stray = test.channels[0].clone();
     stray.response_node = 99;
     test.channels.push(stray);
@@ -83,9 +71,7 @@ fn channels_matching_no_dof_are_listed_and_ignored() {
 #[test]
 fn parameters_the_equations_cannot_tell_apart_are_named() {
     // p3b acts on the same elements and quantity as p3: only p3 + p3b is seen.
-    let d = cantilever("param p3b Iy 7-9\n");
-    let nodes: Vec<u32> = (2..=16).collect();
-    let test = measure(&d, &[("p3", 1.0)], &nodes);
+    let (d, test) = case("param p3b Iy 7-9\n", &[("p3", 1.0)], 16);
     let r = update(&d, &test, &opts()).unwrap();
     let named = r.warnings.iter().find_map(|w| match w {
         UpdateWarning::Indistinguishable { combinations, .. } => Some(combinations.clone()),
@@ -109,9 +95,7 @@ fn a_step_that_would_make_a_stiffness_negative_is_limited_and_reported() {
     // Elements 1-3 and 7-9 are 100 times softer than the deck says: the first
     // linearised step overshoots below -1 (a negative stiffness). It is
     // scaled back, reported, and the iteration still reaches the truth.
-    let d = cantilever("");
-    let nodes: Vec<u32> = (2..=16).collect();
-    let test = measure(&d, &[("p3", -0.99), ("p1", -0.99)], &nodes);
+    let (d, test) = case("", &[("p3", -0.99), ("p1", -0.99)], 16);
     let r = update(&d, &test, &opts()).unwrap();
     let limited = r.warnings.iter().find_map(|w| match w {
         UpdateWarning::StepLimited {

@@ -7,9 +7,12 @@ use std::path::PathBuf;
 use faer::c64;
 use frfup::model::ParameterValues;
 use frfup::parsers::deck::{parse, Deck};
-use frfup::simulate::{simulate, Band, Campaign, Gaussian, NodeDirection, Sensors};
-use frfup::testdata::{FrfKind, MeasuredFrfs};
+use frfup::simulate::{simulate, Band, Gaussian};
+use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, FrfWeighting, UpdateOptions, UpdateResult};
+
+mod campaign_support;
+use campaign_support::z_campaign;
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -33,25 +36,7 @@ fn measure(
     nodes: &[u32],
     band: Band,
 ) -> MeasuredFrfs {
-    let campaign = Campaign {
-        input: NodeDirection {
-            node: input,
-            direction: 3,
-        },
-        band,
-        output: FrfKind::Accelerance,
-        sensors: Sensors::List(
-            nodes
-                .iter()
-                .map(|&n| NodeDirection {
-                    node: n,
-                    direction: 3,
-                })
-                .collect(),
-        ),
-        noise: 0.0,
-        seed: 1,
-    };
+    let campaign = z_campaign(input, nodes, band);
     simulate(deck, truth, &campaign).unwrap()
 }
 
