@@ -143,3 +143,38 @@ fn free_free_beam_on_two_bungees() {
     assert!(k > 400.0 && k < 1600.0, "k = {k}");
     at_noise_level(&d);
 }
+
+/// Two effects that mask each other: 20 g sensors at nodes 3, 5, 7, 9 and a
+/// clamp with k = 300 N·m/rad in rotation. Fitted one at a time, each runs
+/// to a bound (the clamp alone to "pinned", the masses alone to their upper
+/// bound); only the joint fit finds both.
+#[test]
+fn sensor_masses_on_a_flexible_clamp() {
+    let d = run("two_effects");
+    let s = structural(&d);
+    assert_eq!(s.len(), 2, "{:?}", d.findings);
+    let clamp = s
+        .iter()
+        .find(|f| f.physics.name() == "support-flexibility")
+        .expect("a support finding");
+    assert_eq!(
+        (clamp.nodes.clone(), clamp.dofs.clone()),
+        (vec![1], vec!["ry".to_string()])
+    );
+    let k = param(clamp, "k");
+    assert!(k > 150.0 && k < 600.0, "k = {k}");
+    let sensors = s
+        .iter()
+        .find(|f| f.physics.name() == "sensor-mass")
+        .expect("a sensor-mass finding");
+    assert_eq!(sensors.nodes, vec![3, 5, 7, 9]);
+    let m = param(sensors, "m");
+    assert!(within(m, 0.02, 0.2), "m = {m}");
+    // The deck's modal damping (1.5 %) is the truth: no damping finding.
+    assert!(
+        d.findings.iter().all(|f| f.physics.name() != "damping"),
+        "{:?}",
+        d.findings
+    );
+    at_noise_level(&d);
+}

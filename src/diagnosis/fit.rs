@@ -569,3 +569,80 @@ pub fn fit_deck_parameters(
         mean_sq(&out.residuals),
     ))
 }
+
+/// Cap of one resonance's log frequency misfit: a resonance paired with a
+/// model mode a factor 2 away counts as unpaired.
+const FREQ_CAP: f64 = std::f64::consts::LN_2;
+
+/// Natural frequencies (rad/s) of the modes that show in the measured
+/// channels and lie near the measured band, ascending. A mode shows when its
+/// peak in the measured kind, |a_cr|·ω_r^(order−2) for equal damping, reaches
+/// 10⁻³ of the largest one (an axial mode under transverse sensors does not).
+pub fn visible_omegas(mm: &ModalModel, data: &TestData) -> Vec<f64> {
+    let w_lo = 0.5 * data.omegas.first().copied().unwrap_or(0.0);
+    let w_hi = 1.5 * data.omegas.last().copied().unwrap_or(0.0);
+    let peaks: Vec<(f64, f64)> = mm
+        .omega2
+        .iter()
+        .enumerate()
+        .filter_map(|(r, &w2)| {
+            let w = w2.max(0.0).sqrt();
+            if w < w_lo.max(1e-9) || w > w_hi {
+                return None;
+            }
+            let a = mm.coeff.iter().map(|c| c[r].abs()).fold(0.0, f64::max);
+            Some((w, a * w.powi(data.order - 2)))
+        })
+        .collect();
+    let top = peaks.iter().map(|p| p.1).fold(0.0, f64::max);
+    peaks
+        .into_iter()
+        .filter(|p| p.1 > 1e-3 * top)
+        .map(|p| p.0)
+        .collect()
+}
+
+/// Resonance-frequency residuals ln(ω_model/ω_test), one per measured
+/// resonance: visible model modes are paired with the measured resonances in
+/// order, skipping model modes freely and measured ones at the cost of a
+/// capped misfit (ln 2), by dynamic programming (a sequence alignment). The
+/// squared sum is smooth in the model's parameters except where the pairing
+/// changes, unlike the FRF misfit, which is flat or rough when peaks are far
+/// apart: this is the coarse stage of a fit.
+pub fn frequency_residuals(mm: &ModalModel, data: &TestData) -> Vec<f64> {
+    let test: Vec<f64> = data
+        .resonances
+        .iter()
+        .map(|r| 2.0 * std::f64::consts::PI * r.frequency_hz)
+        .collect();
+    let model = visible_omegas(mm, data);
+    let (n, k) = (test.len(), model.len());
+    let cap2 = FREQ_CAP * FREQ_CAP;
+    let pair = |i: usize, j: usize| (model[j] / test[i]).ln().clamp(-FREQ_CAP, FREQ_CAP);
+    // cost[i][j]: best alignment of the first i resonances with the first j modes.
+    let mut cost = vec![vec![0.0f64; k + 1]; n + 1];
+    for i in 1..=n {
+        cost[i][0] = cost[i - 1][0] + cap2;
+        for j in 1..=k {
+            let skip_mode = cost[i][j - 1];
+            let skip_test = cost[i - 1][j] + cap2;
+            let matched = cost[i - 1][j - 1] + pair(i - 1, j - 1).powi(2);
+            cost[i][j] = skip_mode.min(skip_test).min(matched);
+        }
+    }
+    let mut r = vec![FREQ_CAP; n];
+    let (mut i, mut j) = (n, k);
+    while i > 0 && j > 0 {
+        let here = cost[i][j];
+        if here == cost[i - 1][j - 1] + pair(i - 1, j - 1).powi(2) {
+            r[i - 1] = pair(i - 1, j - 1);
+            i -= 1;
+            j -= 1;
+        } else if here == cost[i][j - 1] {
+            j -= 1;
+        } else {
+            i -= 1;
+        }
+    }
+    r
+}

@@ -16,6 +16,7 @@ pub mod fit;
 pub mod hypotheses;
 pub mod localise;
 pub mod output;
+pub mod refit;
 pub mod select;
 
 use std::collections::BTreeMap;
@@ -469,7 +470,10 @@ fn greedy(
     let mut used_labels: Vec<String> = Vec::new();
     let mut accepted_list: Vec<(Hypothesis, Option<f64>)> = Vec::new();
     for round in 0..opts.max_findings {
-        if cost <= 1.25 * j0 || engine.evaluations.get() > opts.evaluation_budget {
+        if findings.len() >= opts.max_findings
+            || cost <= 1.25 * j0
+            || engine.evaluations.get() > opts.evaluation_budget
+        {
             break;
         }
         let step = search_round(engine, &current, &damp, data, opts, &used_labels)?;
@@ -477,7 +481,6 @@ fn greedy(
             localisation = step.localisation.clone();
         }
         let m = select::margin(v_cur, j0);
-        let mut accepted: Option<(Hypothesis, HypFit, f64)> = None;
         let mut scored: Vec<(Hypothesis, HypFit, f64)> = Vec::new();
         for (h, f, v) in step.validated {
             let reason = if f.on_bound {
@@ -504,10 +507,66 @@ fn greedy(
             }
         }
         scored.sort_by(|a, b| a.2.total_cmp(&b.2));
-        if let Some(best) = scored.first() {
-            accepted = Some(best.clone());
+        // Two effects can mask each other so that neither fits alone: when
+        // the best single extension leaves the fit far from the noise level,
+        // pairs of the best-fitting candidates are fitted jointly.
+        let single_cost = scored.first().map_or(cost, |s| s.1.cost);
+        let pair = if opts.max_findings - findings.len() >= 2
+            && single_cost > 4.0 * j0
+            && engine.evaluations.get() <= opts.evaluation_budget
+        {
+            pair_search(
+                engine,
+                start,
+                &accepted_list,
+                &step.fitted,
+                &damp,
+                step.large,
+            )
+        } else {
+            None
+        };
+        let v_single = scored.first().map_or(v_cur, |s| s.2);
+        if let Some(p) = pair.filter(|p| p.v < v_single - select::margin(v_single, j0)) {
+            for (o, fo, vo) in &scored {
+                rejected.push(Rejected {
+                    label: o.label.clone(),
+                    round: round + 1,
+                    value: fo.value,
+                    validation_error: *vo,
+                    reason: format!(
+                        "a pair fitted jointly predicts better ({} and {})",
+                        p.hyps[0].label, p.hyps[1].label
+                    ),
+                });
+            }
+            let v_before = v_cur;
+            for h in &p.hyps {
+                used_labels.push(h.label.clone());
+                accepted_list.push((h.clone(), None));
+                findings.push(Finding {
+                    physics: h.physics,
+                    nodes: h.nodes.clone(),
+                    dofs: h.dofs.clone(),
+                    parameters: BTreeMap::new(),
+                    uncertainty: BTreeMap::new(),
+                    validation_error_before: v_before,
+                    validation_error_after: p.v,
+                    label: format!("{} (fitted jointly with the next)", h.label),
+                    indistinguishable_from: vec![],
+                });
+            }
+            if let Some(last) = findings.last_mut() {
+                last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
+            }
+            set_values(&mut accepted_list, &mut findings, &p.fit);
+            current = apply_accepted(start, &accepted_list);
+            damp = p.fit.damping.clone();
+            cost = p.fit.cost;
+            v_cur = p.v;
+            continue;
         }
-        let Some((h, f, v)) = accepted else {
+        let Some((h, f, v)) = scored.first().cloned() else {
             break;
         };
         let alternatives: Vec<String> = scored
@@ -557,6 +616,42 @@ fn greedy(
         damp = f.damping.clone();
         cost = f.cost;
         v_cur = v;
+        // Re-estimate the earlier extensions' values together with the new
+        // one: each was fitted while the others were missing.
+        if accepted_list.len() > 1 {
+            let hyps: Vec<&Hypothesis> = accepted_list.iter().map(|a| &a.0).collect();
+            let logs: Vec<f64> = accepted_list
+                .iter()
+                .filter_map(|a| a.1.map(f64::ln))
+                .collect();
+            let settings = refit::JointSettings {
+                frequency_stage: false,
+                iterations: 8,
+            };
+            if let Some(jf) = refit::fit_joint(
+                engine,
+                start,
+                &hyps,
+                std::slice::from_ref(&logs),
+                &damp,
+                &engine.all,
+                settings,
+            ) {
+                if jf.cost < cost && !jf.on_bound.iter().any(|b| *b) {
+                    let vj = refit::validate_joint(engine, start, &hyps, &jf);
+                    if vj <= v_cur {
+                        set_values(&mut accepted_list, &mut findings, &jf);
+                        current = apply_accepted(start, &accepted_list);
+                        damp = jf.damping.clone();
+                        cost = jf.cost;
+                        v_cur = vj;
+                        if let Some(last) = findings.last_mut() {
+                            last.validation_error_after = vj;
+                        }
+                    }
+                }
+            }
+        }
         // The damping form may have compensated for what was missing.
         if let Some((d2, forms)) =
             select::choose_damping(engine, &current, Some((damp.form, damp.x.clone())), zeta0)
@@ -588,6 +683,117 @@ fn greedy(
     }))
 }
 
+/// `start` with the accepted extensions at their values.
+fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
+    accepted
+        .iter()
+        .fold(start.clone(), |d, (h, v)| h.apply(&d, *v))
+}
+
+/// Write the values and uncertainties of a joint fit over all accepted
+/// extensions (in order) into the list and the findings.
+fn set_values(
+    accepted: &mut [(Hypothesis, Option<f64>)],
+    findings: &mut [Finding],
+    jf: &refit::JointFit,
+) {
+    let mut k = 0;
+    for (i, (h, v)) in accepted.iter_mut().enumerate() {
+        let Some(p) = &h.param else {
+            continue;
+        };
+        let x = jf.logs[k].exp();
+        *v = Some(x);
+        if let Some(f) = findings.get_mut(i) {
+            f.parameters.insert(p.name.to_string(), x);
+            f.uncertainty.insert(p.name.to_string(), jf.std_log[k] * x);
+        }
+        k += 1;
+    }
+}
+
+/// A pair of extensions fitted jointly (with the accepted ones re-estimated).
+struct PairFit {
+    hyps: [Hypothesis; 2],
+    fit: refit::JointFit,
+    v: f64,
+}
+
+/// Joint fits of pairs among the best-fitting single candidates of a round
+/// (after the accepted extensions), each from a grid of starts through the
+/// resonance-frequency stage; the pair that predicts held-out data best,
+/// if its fit is well determined and inside the bounds.
+fn pair_search(
+    engine: &Engine,
+    start: &Deck,
+    accepted: &[(Hypothesis, Option<f64>)],
+    fitted: &[(Hypothesis, HypFit)],
+    damp: &DampingState,
+    large: bool,
+) -> Option<PairFit> {
+    let pool: Vec<&(Hypothesis, HypFit)> = fitted
+        .iter()
+        .filter(|(h, _)| h.physics != Physics::Suspension)
+        .take(if large { 3 } else { 5 })
+        .collect();
+    let per_axis = if large { 3 } else { 4 };
+    let mut best: Option<PairFit> = None;
+    for a in 0..pool.len() {
+        for b in a + 1..pool.len() {
+            let (ha, fa) = pool[a];
+            let (hb, fb) = pool[b];
+            if ha.param.is_none() && hb.param.is_none() {
+                continue;
+            }
+            let mut hyps: Vec<&Hypothesis> = accepted.iter().map(|x| &x.0).collect();
+            hyps.push(ha);
+            hyps.push(hb);
+            let mut fixed: Vec<Option<f64>> = accepted
+                .iter()
+                .filter_map(|x| x.0.param.as_ref().map(|_| x.1.map(f64::ln)))
+                .collect();
+            let n_acc = fixed.len();
+            let singles: Vec<Option<f64>> = [(ha, fa), (hb, fb)]
+                .iter()
+                .filter(|(h, _)| h.param.is_some())
+                .map(|(_, f)| f.log_value)
+                .collect();
+            let mut from_singles = fixed.iter().map(|x| x.unwrap_or(0.0)).collect::<Vec<_>>();
+            from_singles.extend(singles.iter().map(|x| x.unwrap_or(0.0)));
+            fixed.extend(singles.iter().map(|_| None));
+            let mut starts = refit::grid_starts(&hyps, &fixed, per_axis);
+            starts.push(from_singles);
+            let settings = refit::JointSettings {
+                frequency_stage: true,
+                iterations: 12,
+            };
+            let Some(jf) =
+                refit::fit_joint(engine, start, &hyps, &starts, damp, &engine.all, settings)
+            else {
+                continue;
+            };
+            let new = n_acc..jf.logs.len();
+            if jf.on_bound[new.clone()].iter().any(|x| *x)
+                || jf.std_log[new].iter().any(|s| !(*s < 1.0))
+            {
+                continue;
+            }
+            if best.as_ref().is_some_and(|p| p.fit.cost <= jf.cost) {
+                continue;
+            }
+            let v = refit::validate_joint(engine, start, &hyps, &jf);
+            if best.as_ref().is_none_or(|p| v < p.v) {
+                best = Some(PairFit {
+                    hyps: [ha.clone(), hb.clone()],
+                    fit: jf,
+                    v,
+                });
+            }
+        }
+    }
+    best
+}
+
 /// Number with 4 significant digits.
 pub fn sig(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
@@ -604,7 +810,11 @@ pub fn sig(x: f64) -> String {
 
 struct Round {
     validated: Vec<(Hypothesis, HypFit, f64)>,
+    /// Every candidate fitted in full this round, best cost first.
+    fitted: Vec<(Hypothesis, HypFit)>,
     localisation: Vec<(u32, f64, String)>,
+    /// The model has more than 200 DOFs (smaller searches).
+    large: bool,
 }
 
 /// One greedy round: generate, screen, fit, validate.
@@ -631,6 +841,7 @@ fn search_round(
         .max(1e-12)
         .sqrt();
     let fe = model::build(current, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    let large = fe.dofs.len() > 200;
     let mut sensor_nodes: Vec<u32> = data
         .channels
         .iter()
@@ -726,7 +937,6 @@ fn search_round(
                 .fold(0.0f64, f64::max)
         };
         dirs.sort_by(|a, b| best_single(b).total_cmp(&best_single(a)).then(a.cmp(b)));
-        let large = fe.dofs.len() > 200;
         for (di, d) in dirs.into_iter().enumerate() {
             let set: Vec<&localise::Probe> = (n_main..candidates.len())
                 .filter(|&i| candidates[i].dofs[0] == d)
@@ -811,16 +1021,18 @@ fn search_round(
             .map_or(f64::INFINITY, |f| f.cost),
     );
     let mut validated = Vec::new();
-    for (h, f) in fitted.into_iter().take(5) {
+    for (h, f) in fitted.iter().take(5) {
         if !(f.cost < base_cost * 0.97) {
             continue;
         }
-        let v = engine.validate(Some(&h), current, &f);
-        validated.push((h, f, v));
+        let v = engine.validate(Some(h), current, f);
+        validated.push((h.clone(), f.clone(), v));
     }
     Ok(Round {
         validated,
+        fitted,
         localisation,
+        large,
     })
 }
 
