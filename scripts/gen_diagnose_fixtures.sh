@@ -129,6 +129,11 @@ sim shear 11:3 20:20000:600 3:3,5:3,7:3,9:3,11:3
 { echo "title cantilever with 20 g sensors on a flexible clamp"; beam; echo "fix 1 x,z"; echo "spring 1 1 ry k=300"; echo "damping modal 0.015"; for n in 3 5 7 9; do echo "mass $n $n m=0.02"; done; } > $D/two_effects.truth.deck
 sim two_effects 9:3 2:400:600 $BEAM_SENS
 
+# 9. support flexibility in translation: the clamp sits on a spring 2e4 N/m in z
+{ echo "title cantilever, analyst's deck"; beam; echo "fix 1 all"; echo "damping modal 0.02"; } > $D/support_z.deck
+{ echo "title cantilever whose clamp sits on a vertical spring"; beam; echo "fix 1 x,ry"; echo "spring 1 1 z k=2e4"; echo "damping modal 0.02"; } > $D/support_z.truth.deck
+sim support_z 9:3 2:400:600 $BEAM_SENS
+
 # Controls: only the deck's own parameters are wrong.
 { echo "title cantilever, analyst's deck with params"; beam; echo "fix 1 all"; echo "damping modal 0.015"; echo "param EI_root Iy 1-4"; echo "param EI_tip Iy 5-8"; } > $D/control_beam.deck
 cp $D/control_beam.deck $D/control_beam.truth.deck

@@ -439,6 +439,11 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 },
             };
             let d = commands::diagnose::run(&cmd)?;
+            if cli.verbose {
+                for (stage, secs, units) in &d.timings {
+                    eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
+                }
+            }
             print!("{}", commands::diagnose::summary(&d));
             println!("wrote {}", out.display());
         }

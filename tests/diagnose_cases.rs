@@ -178,3 +178,21 @@ fn sensor_masses_on_a_flexible_clamp() {
     );
     at_noise_level(&d);
 }
+
+/// The clamp sits on a vertical spring (2e4 N/m, truth): so far from the
+/// clamped model that every linear probe is useless; the support DOFs are
+/// fitted anyway, from the resonance-frequency stage.
+#[test]
+fn clamp_on_a_vertical_spring() {
+    let d = run("support_z");
+    let s = structural(&d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), "support-flexibility");
+    assert_eq!(
+        (s[0].nodes.clone(), s[0].dofs.clone()),
+        (vec![1], vec!["z".to_string()])
+    );
+    let k = param(s[0], "k");
+    assert!(k > 1e4 && k < 4e4, "k = {k}");
+    at_noise_level(&d);
+}

@@ -148,6 +148,9 @@ pub struct Diagnosis {
     pub model_evaluations: usize,
     /// True when the final model explains the data to the noise level.
     pub at_noise_level: bool,
+    /// Wall time of each stage (name, seconds, model solutions), for `--verbose`
+    /// (not written to any file: outputs stay byte-identical run to run).
+    pub timings: Vec<(&'static str, f64, usize)>,
 }
 
 /// Run the diagnosis of `deck` against `test`.
@@ -156,6 +159,14 @@ pub fn diagnose(
     test: &MeasuredFrfs,
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
+    let mut timings: Vec<(&'static str, f64, usize)> = Vec::new();
+    let mut clock = std::time::Instant::now();
+    let mut solved = 0usize;
+    let mut lap = |name: &'static str, evaluations: usize| {
+        timings.push((name, clock.elapsed().as_secs_f64(), evaluations - solved));
+        clock = std::time::Instant::now();
+        solved = evaluations;
+    };
     let mut data = TestData::new(test)?;
     // Channels the model cannot place are ignored.
     let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
@@ -198,6 +209,7 @@ pub fn diagnose(
             x: DampingForm::Modal.start(zeta0, wc),
         });
 
+    lap("prepare test data", 0);
     // 1. The deck as given, then with its own parameters updated.
     let initial = quality(&engine, deck, &start_damping)?;
     let mut update_note = None;
@@ -271,6 +283,7 @@ pub fn diagnose(
         ));
     }
     let updated = quality(&engine, &updated_deck, &start_damping)?;
+    lap("update the deck's parameters", engine.evaluations.get());
 
     // 2.–4. Greedy extensions, from the updated deck and (if the update
     // changed it) from the deck as given: an update can absorb missing
@@ -324,6 +337,7 @@ pub fn diagnose(
             best = Some(g);
         }
     }
+    lap("search extensions (all starts)", engine.evaluations.get());
     let Some(g) = best else {
         return Err(DiagnoseError::Eigen(
             "the updated model gives no usable FRF".into(),
@@ -412,6 +426,7 @@ pub fn diagnose(
     })?;
     let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
     let at_noise_level = final_fit.cost <= 1.25 * j0;
+    lap("damping and final scores", engine.evaluations.get());
     Ok(Diagnosis {
         findings,
         initial,
@@ -427,6 +442,7 @@ pub fn diagnose(
         ignored_channels,
         model_evaluations: engine.evaluations.get(),
         at_noise_level,
+        timings,
     })
 }
 
@@ -909,10 +925,19 @@ fn search_round(
         Physics::JointFlexibility,
         Physics::AddedMass,
     ] {
+        // A model far from the test can make every linear probe useless
+        // (score ≤ 0): the few support DOFs and the one sensor-mass
+        // hypothesis are then fitted anyway.
+        let in_class = main_order
+            .iter()
+            .filter(|&&i| candidates[i].physics == class)
+            .count();
+        let always = matches!(class, Physics::SensorMass | Physics::SupportFlexibility);
+        let take = if always && in_class <= 6 { in_class } else { 2 };
         for &i in main_order
             .iter()
-            .filter(|&&i| candidates[i].physics == class && probes[i].score > 0.0)
-            .take(2)
+            .filter(|&&i| candidates[i].physics == class && (always || probes[i].score > 0.0))
+            .take(take)
         {
             if !chosen.iter().any(|c| c.label == candidates[i].label) {
                 chosen.push(candidates[i].clone());
@@ -1009,9 +1034,19 @@ fn search_round(
     let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
         .into_iter()
         .filter_map(|h| {
-            engine
-                .fit(Some(&h), current, damp, &engine.all, None, 9, 10, true)
-                .map(|f| (h, f))
+            let grid = engine.fit(Some(&h), current, damp, &engine.all, None, 9, 10, true);
+            // Small models: also from the resonance-frequency stage, which
+            // finds the basin a coarse grid on the FRF misfit can miss.
+            let seeded = if large || h.param.is_none() {
+                None
+            } else {
+                frequency_seeded(engine, current, &h, damp, grid.as_ref())
+            };
+            match (grid, seeded) {
+                (Some(g), Some(f)) if f.cost < g.cost => Some((h, f)),
+                (None, Some(f)) => Some((h, f)),
+                (g, _) => g.map(|g| (h, g)),
+            }
         })
         .collect();
     fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
@@ -1033,6 +1068,38 @@ fn search_round(
         fitted,
         localisation,
         large,
+    })
+}
+
+/// A one-parameter fit of `h` through [`refit::fit_joint`]: 7 starts across
+/// its bounds (and the grid fit's optimum), resonance-frequency stage, then
+/// the FRFs.
+fn frequency_seeded(
+    engine: &Engine,
+    current: &Deck,
+    h: &Hypothesis,
+    damp: &DampingState,
+    grid: Option<&HypFit>,
+) -> Option<HypFit> {
+    let hyps = [h];
+    let mut starts = refit::grid_starts(&hyps, &[None], 7);
+    if let Some(s) = grid.and_then(|g| g.log_value) {
+        starts.push(vec![s]);
+    }
+    let settings = refit::JointSettings {
+        frequency_stage: true,
+        iterations: 10,
+    };
+    let jf = refit::fit_joint(engine, current, &hyps, &starts, damp, &engine.all, settings)?;
+    let value = jf.logs[0].exp();
+    Some(HypFit {
+        value: Some(value),
+        log_value: Some(jf.logs[0]),
+        damping: jf.damping.clone(),
+        cost: jf.cost,
+        std: Some(jf.std_log[0] * value),
+        damping_std_log: vec![],
+        on_bound: jf.on_bound[0],
     })
 }
 
