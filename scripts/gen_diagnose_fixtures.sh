@@ -134,6 +134,12 @@ sim two_effects 9:3 2:400:600 $BEAM_SENS
 { echo "title cantilever whose clamp sits on a vertical spring"; beam; echo "fix 1 x,ry"; echo "spring 1 1 z k=2e4"; echo "damping modal 0.02"; } > $D/support_z.truth.deck
 sim support_z 9:3 2:400:600 $BEAM_SENS
 
+# 10. sensor masses (30 g on six accelerometers) and the deck's own parameters
+# wrong too (girder -10 %, columns +6 %): the update absorbs part of the masses
+{ echo "title portal frame, analyst's deck with params"; portal; echo "damping modal 0.01"; echo "param girder Iy 4-8"; echo "param columns Iy 1-3,9-11"; } > $D/sensor_mass_portal.deck
+{ echo "title portal frame with 30 g sensors"; portal; echo "damping modal 0.01"; echo "param girder Iy 4-8"; echo "param columns Iy 1-3,9-11"; for n in 2 4 6 7 9 11; do echo "mass $n $n m=0.03"; done; } > $D/sensor_mass_portal.truth.deck
+sim sensor_mass_portal 6:3 2:300:600 2:1,4:1,6:3,7:3,9:1,11:1 --set girder=-0.1 --set columns=0.06
+
 # Controls: only the deck's own parameters are wrong.
 { echo "title cantilever, analyst's deck with params"; beam; echo "fix 1 all"; echo "damping modal 0.015"; echo "param EI_root Iy 1-4"; echo "param EI_tip Iy 5-8"; } > $D/control_beam.deck
 cp $D/control_beam.deck $D/control_beam.truth.deck

@@ -476,6 +476,9 @@ fn greedy(
     let Some(base_fit) = engine.fit(None, start, &damp, &engine.all, None, 0, 0, false) else {
         return Ok(None);
     };
+    // The deck the accepted extensions are applied to: `start`, with the
+    // deck's parameters moved when an extension was fitted along with them.
+    let mut base = start.clone();
     let mut current = start.clone();
     damp = base_fit.damping.clone();
     let mut cost = base_fit.cost;
@@ -533,7 +536,7 @@ fn greedy(
         {
             pair_search(
                 engine,
-                start,
+                &base,
                 &accepted_list,
                 &step.fitted,
                 &damp,
@@ -576,7 +579,7 @@ fn greedy(
                 last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
             }
             set_values(&mut accepted_list, &mut findings, &p.fit);
-            current = apply_accepted(start, &accepted_list);
+            current = apply_accepted(&base, &accepted_list);
             damp = p.fit.damping.clone();
             cost = p.fit.cost;
             v_cur = p.v;
@@ -628,7 +631,10 @@ fn greedy(
         });
         used_labels.push(h.label.clone());
         accepted_list.push((h.clone(), f.value));
-        current = h.apply(&current, f.value);
+        if !f.deck_values.is_empty() {
+            base = model::updated_deck(&base, &f.deck_values);
+        }
+        current = apply_accepted(&base, &accepted_list);
         damp = f.damping.clone();
         cost = f.cost;
         v_cur = v;
@@ -644,20 +650,20 @@ fn greedy(
                 frequency_stage: false,
                 iterations: 8,
             };
+            let problem = refit::Joint::new(&base, hyps);
             if let Some(jf) = refit::fit_joint(
                 engine,
-                start,
-                &hyps,
+                &problem,
                 std::slice::from_ref(&logs),
                 &damp,
                 &engine.all,
                 settings,
             ) {
                 if jf.cost < cost && !jf.on_bound.iter().any(|b| *b) {
-                    let vj = refit::validate_joint(engine, start, &hyps, &jf);
+                    let vj = refit::validate_joint(engine, &problem, &jf);
                     if vj <= v_cur {
                         set_values(&mut accepted_list, &mut findings, &jf);
-                        current = apply_accepted(start, &accepted_list);
+                        current = apply_accepted(&base, &accepted_list);
                         damp = jf.damping.clone();
                         cost = jf.cost;
                         v_cur = vj;
@@ -777,14 +783,15 @@ fn pair_search(
             let mut from_singles = fixed.iter().map(|x| x.unwrap_or(0.0)).collect::<Vec<_>>();
             from_singles.extend(singles.iter().map(|x| x.unwrap_or(0.0)));
             fixed.extend(singles.iter().map(|_| None));
-            let mut starts = refit::grid_starts(&hyps, &fixed, per_axis);
+            let problem = refit::Joint::new(start, hyps);
+            let (lo, hi) = problem.bounds();
+            let mut starts = refit::grid_starts(&lo, &hi, &fixed, per_axis);
             starts.push(from_singles);
             let settings = refit::JointSettings {
                 frequency_stage: true,
                 iterations: 12,
             };
-            let Some(jf) =
-                refit::fit_joint(engine, start, &hyps, &starts, damp, &engine.all, settings)
+            let Some(jf) = refit::fit_joint(engine, &problem, &starts, damp, &engine.all, settings)
             else {
                 continue;
             };
@@ -797,7 +804,7 @@ fn pair_search(
             if best.as_ref().is_some_and(|p| p.fit.cost <= jf.cost) {
                 continue;
             }
-            let v = refit::validate_joint(engine, start, &hyps, &jf);
+            let v = refit::validate_joint(engine, &problem, &jf);
             if best.as_ref().is_none_or(|p| v < p.v) {
                 best = Some(PairFit {
                     hyps: [ha.clone(), hb.clone()],
@@ -1055,12 +1062,46 @@ fn search_round(
             .fit(None, current, damp, &engine.all, None, 0, 0, false)
             .map_or(f64::INFINITY, |f| f.cost),
     );
+    // The deck's own parameters may have absorbed part of the missing
+    // effect in the update: the best candidates are fitted again with them
+    // free (small models with a few parameters).
+    let np = current.params.len();
+    if !large && (1..=6).contains(&np) {
+        for (h, f) in fitted.iter_mut().take(3) {
+            if h.param.is_none() {
+                continue;
+            }
+            let problem = refit::Joint::with_deck_parameters(current, vec![&*h]);
+            if let Some(g) = frequency_seeded_with(engine, &problem, damp, Some(f)) {
+                if g.cost < f.cost {
+                    *f = g;
+                }
+            }
+        }
+        fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+    }
     let mut validated = Vec::new();
     for (h, f) in fitted.iter().take(5) {
         if !(f.cost < base_cost * 0.97) {
             continue;
         }
-        let v = engine.validate(Some(h), current, f);
+        let v = if f.deck_values.is_empty() {
+            engine.validate(Some(h), current, f)
+        } else {
+            let problem = refit::Joint::with_deck_parameters(current, vec![h]);
+            let mut x = vec![f.log_value.unwrap_or(0.0)];
+            x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
+            let jf = refit::JointFit {
+                logs: vec![x[0]],
+                deck_values: f.deck_values.clone(),
+                x,
+                damping: f.damping.clone(),
+                cost: f.cost,
+                std_log: vec![],
+                on_bound: vec![],
+            };
+            refit::validate_joint(engine, &problem, &jf)
+        };
         validated.push((h.clone(), f.clone(), v));
     }
     Ok(Round {
@@ -1081,16 +1122,32 @@ fn frequency_seeded(
     damp: &DampingState,
     grid: Option<&HypFit>,
 ) -> Option<HypFit> {
-    let hyps = [h];
-    let mut starts = refit::grid_starts(&hyps, &[None], 7);
+    frequency_seeded_with(engine, &refit::Joint::new(current, vec![h]), damp, grid)
+}
+
+/// As [`frequency_seeded`] for a one-extension problem that may fit the
+/// deck's parameters along (they start at 0).
+fn frequency_seeded_with(
+    engine: &Engine,
+    problem: &refit::Joint,
+    damp: &DampingState,
+    grid: Option<&HypFit>,
+) -> Option<HypFit> {
+    let (lo, hi) = problem.bounds();
+    let np = problem.deck_params.len();
+    let mut fixed = vec![None];
+    fixed.extend(std::iter::repeat_n(Some(0.0), np));
+    let mut starts = refit::grid_starts(&lo, &hi, &fixed, 7);
     if let Some(s) = grid.and_then(|g| g.log_value) {
-        starts.push(vec![s]);
+        let mut x = vec![s];
+        x.extend(std::iter::repeat_n(0.0, np));
+        starts.push(x);
     }
     let settings = refit::JointSettings {
         frequency_stage: true,
         iterations: 10,
     };
-    let jf = refit::fit_joint(engine, current, &hyps, &starts, damp, &engine.all, settings)?;
+    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)?;
     let value = jf.logs[0].exp();
     Some(HypFit {
         value: Some(value),
@@ -1100,6 +1157,7 @@ fn frequency_seeded(
         std: Some(jf.std_log[0] * value),
         damping_std_log: vec![],
         on_bound: jf.on_bound[0],
+        deck_values: jf.deck_values.clone(),
     })
 }
 

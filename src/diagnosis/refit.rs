@@ -17,12 +17,94 @@
 //!
 //! The standard deviations come from the Jacobian of the second stage,
 //! σ² (JᵀJ)⁻¹ (see [`fit::std_devs`]), on the log scale.
+//!
+//! The deck's own parameters (relative changes p̄, Eq. 26 of the paper,
+//! bounded to [−0.9, 10]) can be fitted along: an update made while an
+//! effect was missing has absorbed part of it into them.
 
 use frfup_parsers::deck::Deck;
+
+use crate::model::{self, ParameterValues};
 
 use super::fit::{self, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
 use super::select::Engine;
+
+/// A joint fitting problem: extensions `hyps` on `base`, and optionally the
+/// base deck's parameters. The unknowns are x = (ln θ of each hypothesis
+/// with a parameter, in order; then p̄ of each deck parameter).
+pub struct Joint<'a> {
+    pub base: &'a Deck,
+    pub hyps: Vec<&'a Hypothesis>,
+    /// Names of the deck parameters fitted along (empty: none).
+    pub deck_params: Vec<String>,
+}
+
+/// Bounds of the deck parameters' relative changes p̄.
+const P_LO: f64 = -0.9;
+const P_HI: f64 = 10.0;
+
+impl<'a> Joint<'a> {
+    /// Extensions only.
+    pub fn new(base: &'a Deck, hyps: Vec<&'a Hypothesis>) -> Self {
+        Joint {
+            base,
+            hyps,
+            deck_params: Vec::new(),
+        }
+    }
+
+    /// Extensions and all of `base`'s own parameters.
+    pub fn with_deck_parameters(base: &'a Deck, hyps: Vec<&'a Hypothesis>) -> Self {
+        Joint {
+            base,
+            deck_params: model::parameter_names(base),
+            hyps,
+        }
+    }
+
+    /// Number of log parameters (hypotheses with a parameter).
+    pub fn n_logs(&self) -> usize {
+        self.hyps.iter().filter(|h| h.param.is_some()).count()
+    }
+
+    /// Bounds of x.
+    pub fn bounds(&self) -> (Vec<f64>, Vec<f64>) {
+        let (mut lo, mut hi): (Vec<f64>, Vec<f64>) = self
+            .hyps
+            .iter()
+            .filter_map(|h| h.param.as_ref())
+            .map(|p| (p.lo.ln(), p.hi.ln()))
+            .unzip();
+        lo.extend(self.deck_params.iter().map(|_| P_LO));
+        hi.extend(self.deck_params.iter().map(|_| P_HI));
+        (lo, hi)
+    }
+
+    /// The deck parameters' values in x.
+    pub fn deck_values(&self, x: &[f64]) -> ParameterValues {
+        let k = self.n_logs();
+        self.deck_params
+            .iter()
+            .cloned()
+            .zip(x[k..].iter().copied())
+            .collect()
+    }
+
+    /// The deck at x, the deck parameters' values multiplied out.
+    pub fn deck_at(&self, x: &[f64]) -> Deck {
+        let d = apply_all(self.base, &self.hyps, &x[..self.n_logs()]);
+        if self.deck_params.is_empty() {
+            d
+        } else {
+            model::updated_deck(&d, &self.deck_values(x))
+        }
+    }
+
+    fn model(&self, engine: &Engine, x: &[f64]) -> Option<ModalModel> {
+        engine.model(&self.deck_at(x)).ok()
+    }
+}
 
 /// The deck with `hyps` applied: `logs` holds one log value per hypothesis
 /// with a parameter, in order; the others are applied as they are.
@@ -40,40 +122,33 @@ pub fn apply_all(base: &Deck, hyps: &[&Hypothesis], logs: &[f64]) -> Deck {
     d
 }
 
-/// Log bounds of the hypotheses with a parameter.
-pub fn log_bounds(hyps: &[&Hypothesis]) -> (Vec<f64>, Vec<f64>) {
-    hyps.iter()
-        .filter_map(|h| h.param.as_ref())
-        .map(|p| (p.lo.ln(), p.hi.ln()))
-        .unzip()
-}
-
 /// Outcome of a joint fit.
 #[derive(Clone, Debug)]
 pub struct JointFit {
     /// Log parameter values, one per hypothesis with a parameter.
     pub logs: Vec<f64>,
+    /// The deck parameters' relative changes (empty when not fitted).
+    pub deck_values: ParameterValues,
+    /// All unknowns x (logs, then deck parameters).
+    pub x: Vec<f64>,
     pub damping: DampingState,
     /// Mean squared weighted residual on the fitted mask.
     pub cost: f64,
     /// Standard deviation of each log parameter (∞ when not determined).
     pub std_log: Vec<f64>,
-    /// A parameter within 2 % of its log range from a bound.
+    /// A log parameter within 2 % of its range from a bound.
     pub on_bound: Vec<bool>,
 }
 
-impl JointFit {
-    /// Parameter values (SI).
-    pub fn values(&self) -> Vec<f64> {
-        self.logs.iter().map(|s| s.exp()).collect()
-    }
-}
-
 /// Starts on a grid: entries of `fixed` that are `Some` stay, each `None`
-/// takes `per_axis` values evenly spaced in its log range (inside the
-/// bounds by half a step); the product of all.
-pub fn grid_starts(hyps: &[&Hypothesis], fixed: &[Option<f64>], per_axis: usize) -> Vec<Vec<f64>> {
-    let (lo, hi) = log_bounds(hyps);
+/// takes `per_axis` values evenly spaced in its range [lo, hi] (inside by
+/// half a step); the product of all.
+pub fn grid_starts(
+    lo: &[f64],
+    hi: &[f64],
+    fixed: &[Option<f64>],
+    per_axis: usize,
+) -> Vec<Vec<f64>> {
     let n = per_axis.max(1);
     let mut out = vec![Vec::new()];
     for (i, f) in fixed.iter().enumerate() {
@@ -106,25 +181,29 @@ pub struct JointSettings {
     pub iterations: usize,
 }
 
-/// Fit the parameters of `hyps` (applied on `base`) and the damping jointly
-/// on `mask`, from `starts` (log values). `None` if no start gives a model.
+/// Fit the unknowns of `problem` and the damping jointly on `mask`, from
+/// `starts` (full x vectors). `None` if no start gives a model.
 pub fn fit_joint(
     engine: &Engine,
-    base: &Deck,
-    hyps: &[&Hypothesis],
+    problem: &Joint,
     starts: &[Vec<f64>],
     damp: &DampingState,
     mask: &Mask,
     settings: JointSettings,
 ) -> Option<JointFit> {
     let data = engine.data;
-    let (lo, hi) = log_bounds(hyps);
-    let p = lo.len();
-    let clamp = |s: &[f64]| -> Vec<f64> { (0..p).map(|i| s[i].clamp(lo[i], hi[i])).collect() };
-    let mut seeds: Vec<Vec<f64>> = starts.iter().map(|s| clamp(s)).collect();
-    if settings.frequency_stage && p > 0 && !data.resonances.is_empty() {
+    let (lo, hi) = problem.bounds();
+    let n = lo.len();
+    let k = problem.n_logs();
+    let clamp = |s: &[f64]| -> Vec<f64> { (0..n).map(|i| s[i].clamp(lo[i], hi[i])).collect() };
+    let mut seeds: Vec<Vec<f64>> = starts
+        .iter()
+        .filter(|s| s.len() == n)
+        .map(|s| clamp(s))
+        .collect();
+    if settings.frequency_stage && n > 0 && !data.resonances.is_empty() {
         let freq = |x: &[f64]| -> Option<Vec<f64>> {
-            let mm = engine.model(&apply_all(base, hyps, x)).ok()?;
+            let mm = problem.model(engine, x)?;
             Some(fit::frequency_residuals(&mm, data))
         };
         let mut ranked: Vec<(f64, Vec<f64>)> = seeds
@@ -133,7 +212,7 @@ pub fn fit_joint(
             .collect();
         ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (_, s) in ranked.into_iter().take(2) {
-            if let Some(o) = fit::lm(freq, &s, &lo, &hi, settings.iterations) {
+            if let Some(o) = fit::lm(&freq, &s, &lo, &hi, settings.iterations) {
                 seeds.push(o.x);
             }
         }
@@ -142,7 +221,7 @@ pub fn fit_joint(
     let mut profiled: Vec<(f64, Vec<f64>, DampingState)> = seeds
         .iter()
         .filter_map(|s| {
-            let mm = engine.model(&apply_all(base, hyps, s)).ok()?;
+            let mm = problem.model(engine, s)?;
             let (d, r) = fit::fit_damping(&mm, damp, data, mask, 10);
             let c = fit::mean_sq(&r);
             c.is_finite().then(|| (c, s.clone(), d))
@@ -152,25 +231,22 @@ pub fn fit_joint(
     profiled.dedup_by(|a, b| a.1 == b.1);
     let mut best: Option<JointFit> = None;
     for (c0, s, d) in profiled.into_iter().take(2) {
-        let (x, cost, dstate, jac_std) =
-            frf_stage(engine, base, hyps, &s, &d, mask, settings.iterations).unwrap_or((
-                s.clone(),
-                c0,
-                d.clone(),
-                vec![f64::INFINITY; p],
-            ));
+        let (x, cost, dstate, sd) = frf_stage(engine, problem, &s, &d, mask, settings.iterations)
+            .unwrap_or((s.clone(), c0, d.clone(), vec![f64::INFINITY; n]));
         if best.as_ref().is_none_or(|b| cost < b.cost) {
-            let on_bound = (0..p)
+            let on_bound = (0..k)
                 .map(|i| {
                     let span = hi[i] - lo[i];
                     x[i] - lo[i] < 0.02 * span || hi[i] - x[i] < 0.02 * span
                 })
                 .collect();
             best = Some(JointFit {
-                logs: x,
+                logs: x[..k].to_vec(),
+                deck_values: problem.deck_values(&x),
+                x,
                 damping: dstate,
                 cost,
-                std_log: jac_std,
+                std_log: sd[..k].to_vec(),
                 on_bound,
             });
         }
@@ -179,19 +255,18 @@ pub fn fit_joint(
 }
 
 /// Levenberg–Marquardt on the log-FRF residuals over (x, damping) from
-/// (`x0`, `damp`); returns x, the cost, the damping and σ(x) on the log scale.
+/// (`x0`, `damp`); returns x, the cost, the damping and σ(x).
 fn frf_stage(
     engine: &Engine,
-    base: &Deck,
-    hyps: &[&Hypothesis],
+    problem: &Joint,
     x0: &[f64],
     damp: &DampingState,
     mask: &Mask,
     iterations: usize,
 ) -> Option<(Vec<f64>, f64, DampingState, Vec<f64>)> {
     let data = engine.data;
-    let (mut lo, mut hi) = log_bounds(hyps);
-    let p = lo.len();
+    let (mut lo, mut hi) = problem.bounds();
+    let n = lo.len();
     let w_lo = data.omegas.first().copied().unwrap_or(1.0);
     let w_hi = data.omegas.last().copied().unwrap_or(1.0);
     let (dlo, dhi) = damp.form.bounds(w_lo, w_hi);
@@ -201,14 +276,14 @@ fn frf_stage(
     // The model depends on x only: damping steps reuse it.
     let mut cache: Option<(Vec<f64>, ModalModel)> = None;
     let mut f = |x: &[f64]| -> Option<Vec<f64>> {
-        let key = &x[..p];
+        let key = &x[..n];
         if cache.as_ref().is_none_or(|(k, _)| k.as_slice() != key) {
-            let mm = engine.model(&apply_all(base, hyps, key)).ok()?;
+            let mm = problem.model(engine, key)?;
             cache = Some((key.to_vec(), mm));
         }
         let mm = &cache.as_ref()?.1;
         Some(fit::residuals(
-            &fit::predict(mm, form.damping(&x[p..]), data, mask),
+            &fit::predict(mm, form.damping(&x[n..]), data, mask),
             data,
             mask,
         ))
@@ -219,19 +294,19 @@ fn frf_stage(
     let jac = fit::jacobian(&mut f, &out.x, &out.residuals, &lo, &hi)?;
     let sd = fit::std_devs(&jac, &out.residuals);
     Some((
-        out.x[..p].to_vec(),
+        out.x[..n].to_vec(),
         fit::mean_sq(&out.residuals),
         DampingState {
             form,
-            x: out.x[p..].to_vec(),
+            x: out.x[n..].to_vec(),
         },
-        sd[..p].to_vec(),
+        sd[..n].to_vec(),
     ))
 }
 
 /// Mean validation cost of a joint fit over the engine's folds: refit on
 /// each training mask from the full-data optimum, predict the held-out one.
-pub fn validate_joint(engine: &Engine, base: &Deck, hyps: &[&Hypothesis], full: &JointFit) -> f64 {
+pub fn validate_joint(engine: &Engine, problem: &Joint, full: &JointFit) -> f64 {
     let mut sum = 0.0;
     let mut n = 0usize;
     for (train, val) in &engine.folds {
@@ -241,16 +316,15 @@ pub fn validate_joint(engine: &Engine, base: &Deck, hyps: &[&Hypothesis], full: 
         };
         let Some(f) = fit_joint(
             engine,
-            base,
-            hyps,
-            std::slice::from_ref(&full.logs),
+            problem,
+            std::slice::from_ref(&full.x),
             &full.damping,
             train,
             settings,
         ) else {
             return f64::INFINITY;
         };
-        let Ok(mm) = engine.model(&apply_all(base, hyps, &f.logs)) else {
+        let Some(mm) = problem.model(engine, &f.x) else {
             return f64::INFINITY;
         };
         let r = fit::residuals(

@@ -31,6 +31,8 @@ pub struct HypFit {
     pub std: Option<f64>,
     pub damping_std_log: Vec<f64>,
     pub on_bound: bool,
+    /// The deck's parameters' relative changes fitted along (empty: held).
+    pub deck_values: crate::model::ParameterValues,
 }
 
 /// Folds of the blocked cross-validation: (train, validate) masks.
@@ -141,6 +143,7 @@ impl<'a> Engine<'a> {
                 std: None,
                 damping_std_log,
                 on_bound: false,
+                deck_values: Default::default(),
             });
         };
         let (blo, bhi) = (spec.lo.ln(), spec.hi.ln());
@@ -222,6 +225,7 @@ impl<'a> Engine<'a> {
             std: Some(std * s.exp()),
             damping_std_log,
             on_bound,
+            deck_values: Default::default(),
         })
     }
 
