@@ -212,3 +212,29 @@ fn sensor_masses_hidden_behind_parameter_errors() {
     assert!(within(m, 0.03, 0.2), "m = {m}");
     at_noise_level(&d);
 }
+
+/// GARTEUR size (the demo's deck with its bungee suspension, 20 deck
+/// parameters, 26 channels, 801 lines): once the update (the demo's
+/// options) has fixed the stiffness errors, only the damping the deck
+/// lacks is missing; truth ζ = 0.01 (fixtures/garteur/truth.json).
+#[test]
+fn garteur_only_damping_missing() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
+    let text = std::fs::read_to_string(dir.join("garteur_suspended.deck")).unwrap();
+    let deck = frfup::parsers::deck::parse(&text).unwrap();
+    let test = frfup::testdata::load(&dir.join("campaign.uff")).unwrap();
+    let opts = DiagnoseOptions {
+        update: frfup::commands::demo::demo_options(),
+        ..Default::default()
+    };
+    let d = diagnose(&deck, &test, &opts).unwrap();
+    assert!(structural(&d).is_empty(), "{:?}", d.findings);
+    let f = d
+        .findings
+        .iter()
+        .find(|f| f.physics.name() == "damping")
+        .expect("a damping finding");
+    let z = f.parameters.get("zeta").copied().unwrap_or(f64::NAN);
+    assert!(within(z, 0.01, 0.3), "zeta = {z}");
+    at_noise_level(&d);
+}

@@ -295,6 +295,11 @@ pub fn diagnose(
     }
     let mut best: Option<Greedy> = None;
     for start in &starts {
+        // The updated deck (first start) already at the noise level: the
+        // deck as given has nothing to add.
+        if best.as_ref().is_some_and(|b| b.cost <= 1.25 * j0) {
+            break;
+        }
         let Some(mut g) = greedy(&engine, start, deck_form.clone(), zeta0, j0, opts)? else {
             continue;
         };
