@@ -27,6 +27,17 @@ fn structural(d: &Diagnosis) -> Vec<&Finding> {
         .collect()
 }
 
+/// The one structural finding: its class, nodes and DOFs (none listed for
+/// masses), asserted.
+fn the_one<'a>(d: &'a Diagnosis, physics: &str, nodes: &[u32], dofs: &[&str]) -> &'a Finding {
+    let s = structural(d);
+    assert_eq!(s.len(), 1, "{:?}", d.findings);
+    assert_eq!(s[0].physics.name(), physics);
+    assert_eq!(s[0].nodes, nodes);
+    assert_eq!(s[0].dofs, dofs);
+    s[0]
+}
+
 fn param(f: &Finding, name: &str) -> f64 {
     f.parameters[name]
 }
@@ -46,11 +57,7 @@ fn at_noise_level(d: &Diagnosis) {
 #[test]
 fn sensor_mass_on_the_four_accelerometers() {
     let d = run("sensor_mass");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "sensor-mass");
-    assert_eq!(s[0].nodes, vec![3, 5, 7, 9]);
-    let m = param(s[0], "m");
+    let m = param(the_one(&d, "sensor-mass", &[3, 5, 7, 9], &[]), "m");
     assert!(within(m, 0.025, 0.2), "m = {m}");
     at_noise_level(&d);
 }
@@ -58,14 +65,7 @@ fn sensor_mass_on_the_four_accelerometers() {
 #[test]
 fn flexible_clamp_in_rotation() {
     let d = run("support");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "support-flexibility");
-    assert_eq!(
-        (s[0].nodes.clone(), s[0].dofs.clone()),
-        (vec![1], vec!["ry".to_string()])
-    );
-    let k = param(s[0], "k");
+    let k = param(the_one(&d, "support-flexibility", &[1], &["ry"]), "k");
     assert!(k > 100.0 && k < 400.0, "k = {k}");
     at_noise_level(&d);
 }
@@ -87,11 +87,7 @@ fn missing_damping() {
 #[test]
 fn added_mass_between_sensors() {
     let d = run("added_mass");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "added-mass");
-    assert_eq!(s[0].nodes, vec![6]);
-    let m = param(s[0], "m");
+    let m = param(the_one(&d, "added-mass", &[6], &[]), "m");
     assert!(within(m, 0.12, 0.2), "m = {m}");
     at_noise_level(&d);
 }
@@ -99,14 +95,7 @@ fn added_mass_between_sensors() {
 #[test]
 fn flexible_frame_corner() {
     let d = run("joint");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "joint-flexibility");
-    assert_eq!(
-        (s[0].nodes.clone(), s[0].dofs.clone()),
-        (vec![4], vec!["ry".to_string()])
-    );
-    let k = param(s[0], "k");
+    let k = param(the_one(&d, "joint-flexibility", &[4], &["ry"]), "k");
     assert!(k > 75.0 && k < 300.0, "k = {k}");
     at_noise_level(&d);
 }
@@ -132,14 +121,7 @@ fn controls_only_parameters_wrong() {
 #[test]
 fn free_free_beam_on_two_bungees() {
     let d = run("suspension");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "suspension");
-    assert_eq!(
-        (s[0].nodes.clone(), s[0].dofs.clone()),
-        (vec![3, 11], vec!["z".to_string()])
-    );
-    let k = param(s[0], "k");
+    let k = param(the_one(&d, "suspension", &[3, 11], &["z"]), "k");
     assert!(k > 400.0 && k < 1600.0, "k = {k}");
     at_noise_level(&d);
 }
@@ -185,14 +167,7 @@ fn sensor_masses_on_a_flexible_clamp() {
 #[test]
 fn clamp_on_a_vertical_spring() {
     let d = run("support_z");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "support-flexibility");
-    assert_eq!(
-        (s[0].nodes.clone(), s[0].dofs.clone()),
-        (vec![1], vec!["z".to_string()])
-    );
-    let k = param(s[0], "k");
+    let k = param(the_one(&d, "support-flexibility", &[1], &["z"]), "k");
     assert!(k > 1e4 && k < 4e4, "k = {k}");
     at_noise_level(&d);
 }
@@ -204,11 +179,7 @@ fn clamp_on_a_vertical_spring() {
 #[test]
 fn sensor_masses_hidden_behind_parameter_errors() {
     let d = run("sensor_mass_portal");
-    let s = structural(&d);
-    assert_eq!(s.len(), 1, "{:?}", d.findings);
-    assert_eq!(s[0].physics.name(), "sensor-mass");
-    assert_eq!(s[0].nodes, vec![2, 4, 6, 7, 9, 11]);
-    let m = param(s[0], "m");
+    let m = param(the_one(&d, "sensor-mass", &[2, 4, 6, 7, 9, 11], &[]), "m");
     assert!(within(m, 0.03, 0.2), "m = {m}");
     at_noise_level(&d);
 }

@@ -307,37 +307,13 @@ fn frf_stage(
 /// Mean validation cost of a joint fit over the engine's folds: refit on
 /// each training mask from the full-data optimum, predict the held-out one.
 pub fn validate_joint(engine: &Engine, problem: &Joint, full: &JointFit) -> f64 {
-    let mut sum = 0.0;
-    let mut n = 0usize;
-    for (train, val) in &engine.folds {
-        let settings = JointSettings {
-            frequency_stage: false,
-            iterations: 5,
-        };
-        let Some(f) = fit_joint(
-            engine,
-            problem,
-            std::slice::from_ref(&full.x),
-            &full.damping,
-            train,
-            settings,
-        ) else {
-            return f64::INFINITY;
-        };
-        let Some(mm) = problem.model(engine, &f.x) else {
-            return f64::INFINITY;
-        };
-        let r = fit::residuals(
-            &fit::predict(&mm, f.damping.damping(), engine.data, val),
-            engine.data,
-            val,
-        );
-        sum += fit::mean_sq(&r);
-        n += 1;
-    }
-    if n == 0 {
-        full.cost
-    } else {
-        sum / n as f64
-    }
+    let settings = JointSettings {
+        frequency_stage: false,
+        iterations: 5,
+    };
+    engine.cross_validate(full.cost, |train| {
+        let starts = std::slice::from_ref(&full.x);
+        let f = fit_joint(engine, problem, starts, &full.damping, train, settings)?;
+        Some((problem.model(engine, &f.x)?, f.damping.damping()))
+    })
 }

@@ -300,32 +300,36 @@ impl<'a> Engine<'a> {
     /// Mean validation cost over the folds: refit on each training mask
     /// (around the full-data optimum), predict the held-out mask.
     pub fn validate(&self, hyp: Option<&Hypothesis>, base: &Deck, full: &HypFit) -> f64 {
-        let mut sum = 0.0;
-        let mut n = 0usize;
-        for (train, val) in &self.folds {
+        self.cross_validate(full.cost, |train| {
             let bracket = full.log_value.map(|s| (s - 0.7, s + 0.7));
-            let Some(f) = self.fit(hyp, base, &full.damping, train, bracket, 3, 5, false) else {
-                return f64::INFINITY;
-            };
+            let f = self.fit(hyp, base, &full.damping, train, bracket, 3, 5, false)?;
             let deck = match hyp {
                 Some(h) => h.apply(base, f.value),
                 None => base.clone(),
             };
-            let Ok(mm) = self.model(&deck) else {
+            Some((self.model(&deck).ok()?, f.damping.damping()))
+        })
+    }
+
+    /// Blocked cross-validation: `refit` gives the model and damping fitted
+    /// on a training mask; the mean cost of their predictions on the held-out
+    /// masks (∞ if a refit fails, `no_folds` if there are no folds).
+    pub fn cross_validate<F>(&self, no_folds: f64, mut refit: F) -> f64
+    where
+        F: FnMut(&Mask) -> Option<(ModalModel, crate::model::Damping)>,
+    {
+        let mut sum = 0.0;
+        for (train, val) in &self.folds {
+            let Some((mm, damping)) = refit(train) else {
                 return f64::INFINITY;
             };
-            let r = fit::residuals(
-                &fit::predict(&mm, f.damping.damping(), self.data, val),
-                self.data,
-                val,
-            );
+            let r = fit::residuals(&fit::predict(&mm, damping, self.data, val), self.data, val);
             sum += fit::mean_sq(&r);
-            n += 1;
         }
-        if n == 0 {
-            full.cost
+        if self.folds.is_empty() {
+            no_folds
         } else {
-            sum / n as f64
+            sum / self.folds.len() as f64
         }
     }
 
