@@ -39,7 +39,7 @@ pub fn render_files(
     let data = prepared(d, test);
     let map = localisation_map(d, deck, data.as_ref().ok(), deck_name);
     let (overlay, frf_note) = match &data {
-        Ok(data) => frf_overlay_of(d, deck, data, test),
+        Ok(data) => overlay(d, deck, data, test),
         Err(e) => (
             empty_overlay(test),
             Some(format!("the test data could not be prepared: {e}")),
@@ -87,7 +87,7 @@ pub fn render_files(
 }
 
 /// The test data as the diagnosis used them: its channels only.
-fn prepared(d: &Diagnosis, test: &MeasuredFrfs) -> Result<TestData, DiagnoseError> {
+pub fn prepared(d: &Diagnosis, test: &MeasuredFrfs) -> Result<TestData, DiagnoseError> {
     let mut data = TestData::new(test)?;
     let keep: Vec<bool> = data
         .channels
@@ -176,7 +176,7 @@ pub fn localisation_map(
         .collect();
     let subtitle = if d.localisation.is_empty() {
         format!(
-            "{deck_name}, {}–{} plane: no node scored (nothing left to localise after the update)",
+            "{deck_name}, {}–{} plane: no node scored (the search ran no localisation round)",
             names[ax], names[ay]
         )
     } else {
@@ -251,7 +251,10 @@ fn model_frfs(
     ))
 }
 
-fn frf_overlay_of(
+/// Measured FRFs (series 0) and the FRFs of the deck as given, after the
+/// parameter update and diagnosed (series 1–3) at the lines and channels of
+/// `data`, in the measured kind; the note says which model gave no FRF.
+pub fn overlay(
     d: &Diagnosis,
     deck: &Deck,
     data: &TestData,
@@ -474,7 +477,7 @@ pub fn diagnosis_html(
     // Where.
     let _ = writeln!(s, "<h2 id=\"where\">Where</h2>");
     if d.localisation.is_empty() {
-        s.push_str("<p>No node was scored: nothing was left to localise after the update.</p>\n");
+        s.push_str("<p>No node was scored: the search ran no localisation round (the model with its damping refitted was already at the noise level, or the evaluation budget was spent).</p>\n");
     } else {
         s.push_str("<p>Nodes where a small change of the model would remove most of the remaining FRF error (share of the error a probe removes, best candidate at the node):</p>\n<ul>\n");
         for (n, sc, l) in d.localisation.iter().take(6) {
@@ -591,4 +594,26 @@ pub fn diagnosis_html(
     }
     s.push_str("</ul>\n</body>\n</html>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn deck(text: &str) -> Deck {
+        frfup_parsers::deck::parse(text).unwrap()
+    }
+
+    #[test]
+    fn map_plane_is_x_z_for_plane_decks_else_the_largest_extent() {
+        let plane = deck(
+            "analysis plane\nmaterial s E=2e11 rho=7800\nsection c A=1e-4 Iy=1e-9\nnode 1 0 0 0\nnode 2 1 0 0\nbeam 1 1 2 s c\n",
+        );
+        assert_eq!(map_axes(&plane), (0, 2));
+        // A space frame spread in y and z, thin in x.
+        let space = deck(
+            "material s E=2e11 rho=7800\nsection c A=1e-4 Iy=1e-9 Iz=1e-9 J=2e-9\nnode 1 0 0 0\nnode 2 0.1 2 0\nnode 3 0 2 1\nbeam 1 1 2 s c\nbeam 2 2 3 s c\n",
+        );
+        assert_eq!(map_axes(&space), (1, 2));
+    }
 }
