@@ -32,6 +32,19 @@ fn quality_json(q: &FitQuality) -> Value {
     })
 }
 
+/// Unit of a fitted parameter (` kg`, ` N/m`, …; empty if dimensionless):
+/// a spring on a rotation DOF is in N·m/rad.
+pub fn parameter_unit(name: &str, dofs: &[String]) -> &'static str {
+    match name {
+        "m" => " kg",
+        "k" if dofs.iter().any(|d| d.starts_with('r')) => " N·m/rad",
+        "k" => " N/m",
+        "alpha" => " 1/s",
+        "beta" => " s",
+        _ => "",
+    }
+}
+
 /// `diagnosis.json` as a value.
 pub fn diagnosis_json(d: &Diagnosis) -> Value {
     let findings: Vec<Value> = d
@@ -138,7 +151,8 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
             .iter()
             .map(|(k, v)| {
                 let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
-                format!("{k} = {} ± {}", sig(*v), sig(u))
+                let unit = parameter_unit(k, &f.dofs);
+                format!("{k} = {} ± {}{unit}", sig(*v), sig(u))
             })
             .collect();
         s.push_str(&format!(

@@ -20,6 +20,7 @@ use super::html::esc;
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, DampingForm, DampingState, Mask};
 use crate::diagnosis::hypotheses::damping as hdamp;
+use crate::diagnosis::output::parameter_unit;
 use crate::diagnosis::{describe_damping, sig, DiagnoseError, Diagnosis, FitQuality};
 use crate::model::{self, Damping};
 use crate::testdata::MeasuredFrfs;
@@ -497,14 +498,20 @@ pub fn diagnosis_html(
     if d.findings.is_empty() {
         s.push_str("<p>Nothing is missing: the deck's own parameters explain the test to the noise level.</p>\n");
     } else {
-        s.push_str("<table>\n<tr><th class=\"l\">physics</th><th class=\"l\">where</th><th class=\"l\">fitted values ± 1 standard deviation</th><th>held-out error before</th><th>after</th></tr>\n");
+        s.push_str("<table>\n<tr><th class=\"l\">physics</th><th class=\"l\">hypothesis (where)</th><th class=\"l\">fitted values ± 1 standard deviation</th><th>held-out error before</th><th>after</th></tr>\n");
         for f in &d.findings {
             let vals: Vec<String> = f
                 .parameters
                 .iter()
                 .map(|(k, v)| {
                     let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
-                    format!("{} = {} ± {}", esc(k), esc(&sig(*v)), esc(&sig(u)))
+                    format!(
+                        "{} = {} ± {}{}",
+                        esc(k),
+                        esc(&sig(*v)),
+                        esc(&sig(u)),
+                        parameter_unit(k, &f.dofs)
+                    )
                 })
                 .collect();
             let _ = writeln!(
