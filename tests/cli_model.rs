@@ -192,6 +192,16 @@ fn diagnose_takes_update_options_and_finds_the_damping() {
             .unwrap();
     let f = &d["findings"][0];
     assert_eq!(f["physics"], "damping");
+    // The command writes the report and its charts too.
+    for (name, min) in [
+        ("report.md", 500),
+        ("report.html", 20_000),
+        ("localisation.svg", 5_000),
+        ("frf-overlay.svg", 5_000),
+    ] {
+        let len = std::fs::metadata(out_dir.join(name)).map_or(0, |m| m.len());
+        assert!(len > min, "{name}: {len} bytes");
+    }
     let zeta = f["parameters"]["zeta"].as_f64().unwrap();
     assert!((zeta - 0.02).abs() < 0.006, "zeta {zeta}");
     assert_eq!(run(&["--resonance-method", "guess"]).status.code(), Some(2));

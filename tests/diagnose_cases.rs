@@ -1,17 +1,27 @@
 //! `frfup diagnose` on simulated cases (fixtures/diagnose, made by
 //! scripts/gen_diagnose_fixtures.sh with 1 % noise): the right class at the
 //! right place, fitted values near the truth, a fit at the noise level after
-//! diagnosis, and no findings when only the deck's parameters are wrong.
+//! diagnosis, and no findings when only the deck's parameters are wrong; and
+//! the report of a diagnosis (page, localisation map, FRF overlays), rendered
+//! to PNG with `rsvg-convert` when it is installed (`scripts/render_png.sh`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
-use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis, Finding};
+use frfup::diagnosis::{diagnose, write_outputs, DiagnoseOptions, Diagnosis, Finding};
+use frfup::parsers::deck::Deck;
+use frfup::testdata::MeasuredFrfs;
 
-fn run(case: &str) -> Diagnosis {
+fn load(case: &str) -> (Deck, MeasuredFrfs) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/diagnose");
     let text = std::fs::read_to_string(dir.join(format!("{case}.deck"))).unwrap();
     let deck = frfup::parsers::deck::parse(&text).unwrap();
     let test = frfup::testdata::load(&dir.join(format!("{case}.uff"))).unwrap();
+    (deck, test)
+}
+
+fn run(case: &str) -> Diagnosis {
+    let (deck, test) = load(case);
     let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
     // The diagnosed deck is a valid deck that builds.
     let written = frfup::parsers::deck::write(&d.diagnosed_deck);
@@ -208,4 +218,236 @@ fn garteur_only_damping_missing() {
     let z = f.parameters.get("zeta").copied().unwrap_or(f64::NAN);
     assert!(within(z, 0.01, 0.3), "zeta = {z}");
     at_noise_level(&d);
+}
+
+/// Every file below `dir`, relative, sorted.
+fn tree(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                let rel = p
+                    .strip_prefix(dir)
+                    .unwrap()
+                    .to_string_lossy()
+                    .replace('\\', "/");
+                out.push(rel);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+fn rsvg() -> bool {
+    Command::new("rsvg-convert")
+        .arg("--version")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// (width, height) of a PNG from its IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+/// `width="…" height="…"` of the SVG root.
+fn svg_size(svg: &str) -> (u32, u32) {
+    let head = &svg[..svg.find('>').unwrap()];
+    let attr = |name: &str| -> u32 {
+        let i = head.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+        head[i..].split('"').next().unwrap().parse().unwrap()
+    };
+    (attr("width"), attr("height"))
+}
+
+/// Mean |log10(model/measured)| over the lines where the measured FRF stands
+/// well above the noise, all channels.
+fn log_misfit(measured: &[frfup::report::charts::FrfChannel], series: usize) -> f64 {
+    let (mut s, mut n) = (0.0, 0usize);
+    for ch in measured {
+        let peak = ch.values[0].iter().fold(0.0f64, |a, v| a.max(v.norm()));
+        for (m, t) in ch.values[series].iter().zip(&ch.values[0]) {
+            if t.norm() > 1e-2 * peak {
+                s += (m.norm() / t.norm()).log10().abs();
+                n += 1;
+            }
+        }
+    }
+    s / n as f64
+}
+
+/// The frame with a flexible corner: `write_outputs` writes the page, the
+/// localisation map and the FRF overlays (sheet and one chart per channel),
+/// all self-contained, byte-identical on a re-run, no stale or temporary file
+/// left; the diagnosed model's FRFs follow the test where the deck's do not;
+/// every SVG renders to a PNG of its size.
+#[test]
+fn report_with_localisation_map_and_frf_overlays() {
+    let (deck, test) = load("joint");
+    let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("diagnose_report/joint");
+    let _ = std::fs::remove_dir_all(&dir);
+    // A channel chart of an earlier, larger run must not survive.
+    std::fs::create_dir_all(dir.join("frf")).unwrap();
+    std::fs::write(dir.join("frf/99-old.svg"), "<svg/>").unwrap();
+    write_outputs(&d, &deck, &test, &dir, "joint.deck", "joint.uff").unwrap();
+    let files = tree(&dir);
+    let n = d.channels.len();
+    assert_eq!(n, 6);
+    let mut expected: Vec<String> = [
+        "diagnosed.deck",
+        "diagnosis.json",
+        "frf-overlay.svg",
+        "localisation.svg",
+        "report.html",
+        "report.md",
+    ]
+    .iter()
+    .map(|s| s.to_string())
+    .collect();
+    for ch in ["2+x", "4+x", "6+z", "7+z", "9+x", "11+x"]
+        .iter()
+        .enumerate()
+    {
+        expected.push(format!("frf/{:02}-{}_6+z.svg", ch.0 + 1, ch.1));
+    }
+    expected.sort();
+    assert_eq!(files, expected);
+    let bytes: Vec<Vec<u8>> = files
+        .iter()
+        .map(|f| std::fs::read(dir.join(f)).unwrap())
+        .collect();
+    write_outputs(&d, &deck, &test, &dir, "joint.deck", "joint.uff").unwrap();
+    assert_eq!(tree(&dir), files, "no temporary or extra file");
+    for (f, b) in files.iter().zip(&bytes) {
+        assert_eq!(
+            &std::fs::read(dir.join(f)).unwrap(),
+            b,
+            "{f} changed on a re-run"
+        );
+    }
+
+    let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+    let html = text("report.html");
+    for t in [
+        "<!DOCTYPE html>",
+        "What disagreed",
+        "Where",
+        "Which physics explains it",
+        "joint-flexibility at node 4 (ry)",
+        " ± ",
+        " N·m/rad</td>",
+        "How much the fit improved",
+        "SFDAC mean",
+        "mean freq. error (%)",
+        "Hypotheses tried and not accepted",
+        "fit ends on a bound",
+        "Where the model disagrees with the test",
+    ] {
+        assert!(html.contains(t), "report.html lacks {t}");
+    }
+    assert_eq!(html.matches("<svg").count(), 2 + n, "every chart inline");
+    for bad in [
+        "<script",
+        "<link",
+        "<img",
+        "src=\"http",
+        "href=\"http",
+        "@import",
+        "url(",
+    ] {
+        assert!(!html.contains(bad), "report.html not self-contained: {bad}");
+    }
+    assert!(
+        html.len() > 100_000,
+        "report.html only {} bytes",
+        html.len()
+    );
+    let md = text("report.md");
+    assert!(md.contains("](localisation.svg)") && md.contains("](frf-overlay.svg)"));
+
+    let map = text("localisation.svg");
+    for t in [
+        "Where the model disagrees with the test",
+        "x (m)",
+        "z (m)",
+        "share of FRF error removed (%)",
+        "measured node (sensor)",
+        "fixed support",
+    ] {
+        assert!(map.contains(t), "localisation.svg lacks {t}");
+    }
+    // The best nodes are labelled with their score.
+    let (best, score, _) = &d.localisation[0];
+    let label = format!("node {best}: {:.0} %", 100.0 * score);
+    assert!(map.contains(&label), "localisation.svg lacks {label}");
+    let sheet = text("frf-overlay.svg");
+    for t in [
+        "Measured and model FRFs",
+        "frequency (Hz)",
+        "measured",
+        "as given (",
+        "parameters updated (",
+        &format!("diagnosed ({})", d.diagnosed.damping),
+    ] {
+        assert!(sheet.contains(t), "frf-overlay.svg lacks {t}");
+    }
+    for f in files.iter().filter(|f| f.ends_with(".svg")) {
+        assert!(
+            bytes[files.iter().position(|g| g == f).unwrap()].len() > 10_000,
+            "{f} is small"
+        );
+    }
+
+    // The curves are the models': the diagnosed model follows the test
+    // (1 % noise), the deck as given does not.
+    let data = frfup::report::diagnosis::prepared(&d, &test).unwrap();
+    let (o, note) = frfup::report::diagnosis::overlay(&d, &deck, &data, &test);
+    assert!(note.is_none(), "{note:?}");
+    assert_eq!(o.series_labels.len(), 4);
+    let (given, diagnosed) = (log_misfit(&o.channels, 1), log_misfit(&o.channels, 3));
+    eprintln!("mean |log10(model/test)|: as given {given:.3}, diagnosed {diagnosed:.4}");
+    assert!(diagnosed < 0.05, "diagnosed misfit {diagnosed}");
+    assert!(given > 0.2, "as-given misfit {given}");
+    // The damping in the legend is the fit table's.
+    assert!(
+        o.series_labels[1].contains(&d.initial.damping),
+        "{:?}",
+        o.series_labels
+    );
+
+    if !rsvg() {
+        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+        return;
+    }
+    let png_dir = dir.with_file_name("joint-png");
+    let _ = std::fs::remove_dir_all(&png_dir);
+    std::fs::create_dir_all(png_dir.join("frf")).unwrap();
+    for f in files.iter().filter(|f| f.ends_with(".svg")) {
+        let png = png_dir.join(f.replace(".svg", ".png"));
+        let out = Command::new("rsvg-convert")
+            .arg("--background-color=white")
+            .arg("-o")
+            .arg(&png)
+            .arg(dir.join(f))
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{f}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let b = std::fs::read(&png).unwrap();
+        assert!(b.len() > 8_000, "{f}: PNG only {} bytes", b.len());
+        assert_eq!(png_size(&b), svg_size(&text(f)), "{f}");
+    }
+    eprintln!("PNGs in {}", png_dir.display());
 }

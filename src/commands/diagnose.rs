@@ -1,5 +1,6 @@
 //! `frfup diagnose MODEL.deck TEST.uff --out DIR`: which physics the model
-//! lacks; `diagnosis.json`, `diagnosed.deck`, `report.md`.
+//! lacks; `diagnosis.json`, `diagnosed.deck`, `report.md`, `report.html` and
+//! its charts.
 
 use std::path::PathBuf;
 
@@ -29,6 +30,8 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     })?;
     diagnosis::write_outputs(
         &d,
+        &deck,
+        &test,
         &cmd.out,
         &cmd.deck.display().to_string(),
         &cmd.test.display().to_string(),

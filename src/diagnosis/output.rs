@@ -1,12 +1,17 @@
 //! Files of a diagnosis: `diagnosis.json`, `diagnosed.deck`, `report.md`,
-//! each written atomically.
+//! `report.html`, `localisation.svg`, `frf-overlay.svg` and `frf/NN-CHANNEL.svg`
+//! (charts and page from [`crate::report::diagnosis`]), each written atomically
+//! after all of them were rendered.
 
 use std::path::Path;
+
+use frfup_parsers::deck::Deck;
 
 use serde_json::{json, Map, Value};
 
 use super::{sig, Diagnosis, FitQuality};
 use crate::fsio::write_atomic;
+use crate::testdata::MeasuredFrfs;
 
 fn num(x: f64) -> Value {
     if x.is_finite() {
@@ -25,6 +30,19 @@ fn quality_json(q: &FitQuality) -> Value {
         "frf_log_rms": num(q.frf_log_rms),
         "damping": q.damping,
     })
+}
+
+/// Unit of a fitted parameter (` kg`, ` N/m`, …; empty if dimensionless):
+/// a spring on a rotation DOF is in N·m/rad.
+pub fn parameter_unit(name: &str, dofs: &[String]) -> &'static str {
+    match name {
+        "m" => " kg",
+        "k" if dofs.iter().any(|d| d.starts_with('r')) => " N·m/rad",
+        "k" => " N/m",
+        "alpha" => " 1/s",
+        "beta" => " s",
+        _ => "",
+    }
 }
 
 /// `diagnosis.json` as a value.
@@ -113,11 +131,13 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
     if let Some(n) = &d.update_note {
         s.push_str(&format!("\nUpdating the deck's own parameters: {n}.\n"));
     }
+    s.push_str("\n![Measured FRFs against the model as given, after updating and diagnosed](frf-overlay.svg)\n\nOne chart per channel (magnitude and phase) in `frf/`; all of them in `report.html`.\n");
     if !d.localisation.is_empty() {
         s.push_str("\n## Where\n\nNodes where a small change of the model would remove most of the remaining FRF error (share of the error a probe removes):\n\n");
         for (n, sc, l) in d.localisation.iter().take(6) {
             s.push_str(&format!("- node {n}: {:.0} % ({l})\n", 100.0 * sc));
         }
+        s.push_str("\n![Localisation map: the scores on the model's geometry](localisation.svg)\n");
     }
     s.push_str("\n## Which physics explains it\n\n");
     if d.findings.is_empty() {
@@ -131,7 +151,8 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
             .iter()
             .map(|(k, v)| {
                 let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
-                format!("{k} = {} ± {}", sig(*v), sig(u))
+                let unit = parameter_unit(k, &f.dofs);
+                format!("{k} = {} ± {}{unit}", sig(*v), sig(u))
             })
             .collect();
         s.push_str(&format!(
@@ -185,24 +206,45 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
     s
 }
 
-/// Write `diagnosis.json`, `diagnosed.deck` and `report.md` into `dir`.
+/// Write the files of a diagnosis of `deck` (the analyst's deck, as given)
+/// against `test` into `dir`: `diagnosis.json`, `diagnosed.deck`, `report.md`,
+/// `report.html`, `localisation.svg`, `frf-overlay.svg` and
+/// `frf/NN-CHANNEL.svg`. Everything is rendered before the first write, and
+/// each file is written atomically; per-channel charts of an earlier run that
+/// this run does not write are removed.
 pub fn write_outputs(
     d: &Diagnosis,
+    deck: &Deck,
+    test: &MeasuredFrfs,
     dir: &Path,
     deck_name: &str,
     test_name: &str,
 ) -> std::io::Result<()> {
-    std::fs::create_dir_all(dir)?;
     let json = serde_json::to_string_pretty(&diagnosis_json(d)).map_err(std::io::Error::other)?;
-    write_atomic(&dir.join("diagnosis.json"), format!("{json}\n").as_bytes())?;
-    let mut deck = String::from(
+    let mut deck_text = String::from(
         "# written by frfup diagnose: the updated deck with the accepted extensions\n",
     );
-    deck.push_str(&frfup_parsers::deck::write(&d.diagnosed_deck));
-    write_atomic(&dir.join("diagnosed.deck"), deck.as_bytes())?;
-    write_atomic(
-        &dir.join("report.md"),
-        report_md(d, deck_name, test_name).as_bytes(),
-    )?;
+    deck_text.push_str(&frfup_parsers::deck::write(&d.diagnosed_deck));
+    let mut files: Vec<(String, Vec<u8>)> = vec![
+        ("diagnosis.json".into(), format!("{json}\n").into_bytes()),
+        ("diagnosed.deck".into(), deck_text.into_bytes()),
+        (
+            "report.md".into(),
+            report_md(d, deck_name, test_name).into_bytes(),
+        ),
+    ];
+    files.extend(
+        crate::report::diagnosis::render_files(d, deck, test, deck_name, test_name)
+            .map_err(std::io::Error::other)?,
+    );
+    let frf_dir = dir.join(crate::report::FRF_DIR);
+    std::fs::create_dir_all(&frf_dir)?;
+    let mut written = Vec::with_capacity(files.len());
+    for (name, bytes) in &files {
+        let path = dir.join(name);
+        write_atomic(&path, bytes)?;
+        written.push(path);
+    }
+    crate::report::remove_stale_channels(&frf_dir, &written).map_err(std::io::Error::other)?;
     Ok(())
 }

@@ -6,12 +6,14 @@
 //! * [`data`]: the adapter from an [`UpdateResult`] (+ deck + test data) to
 //!   those structs, including the initial and updated model FRFs;
 //! * [`tables`]: the CSV files `updating::write_outputs` does not write;
-//! * [`html`]: the page.
+//! * [`html`]: the page;
+//! * [`diagnosis`]: the charts and page of `frfup diagnose`.
 //!
 //! Entry point: [`write_report`].
 
 pub mod charts;
 pub mod data;
+pub mod diagnosis;
 pub mod html;
 pub mod tables;
 
@@ -195,7 +197,7 @@ pub fn write_report(
 }
 
 /// Remove `frf/NN-*.svg` files not in `keep`.
-fn remove_stale_channels(frf_dir: &Path, keep: &[PathBuf]) -> Result<(), ReportError> {
+pub(crate) fn remove_stale_channels(frf_dir: &Path, keep: &[PathBuf]) -> Result<(), ReportError> {
     let entries = std::fs::read_dir(frf_dir).map_err(|source| ReportError::Io {
         path: frf_dir.to_path_buf(),
         source,

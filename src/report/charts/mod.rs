@@ -7,6 +7,7 @@
 pub mod convergence;
 pub mod frequencies;
 pub mod frf_overlay;
+pub mod localisation;
 pub mod mac;
 pub mod sfdac;
 
@@ -20,6 +21,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 pub use convergence::ConvergenceChart;
 pub use frequencies::{FrequencyChart, ModeFrequencies};
 pub use frf_overlay::{FrfChannel, FrfOverlay, ResonanceMark};
+pub use localisation::{LocalisationMap, MapNode};
 pub use mac::{MacChart, MacPanel};
 pub use sfdac::SfdacChart;
 
@@ -119,6 +121,8 @@ pub(crate) fn comparison_color(i: usize) -> RGBColor {
         0 => DARK,
         1 => RGBColor(230, 120, 0),
         2 => RGBColor(0, 100, 200),
+        // Green, not the palette's vermillion (too near the orange of 1).
+        3 => RGBColor(0, 158, 115),
         k => series_color(k + 1),
     }
 }
