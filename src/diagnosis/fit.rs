@@ -646,3 +646,19 @@ pub fn frequency_residuals(mm: &ModalModel, data: &TestData) -> Vec<f64> {
     }
     r
 }
+
+/// Where a damping fit starts: the deck's damping model and values, or, when
+/// the deck has none, modal damping at the median half-power ζ of the
+/// measured resonances.
+pub fn start_damping(deck_damping: Damping, data: &TestData) -> DampingState {
+    DampingForm::of(deck_damping)
+        .map(|(form, x)| DampingState { form, x })
+        .unwrap_or_else(|| {
+            let w = &data.omegas;
+            let wc = (w[0] * w[w.len() - 1]).sqrt();
+            DampingState {
+                form: DampingForm::Modal,
+                x: DampingForm::Modal.start(data.half_power_zeta(), wc),
+            }
+        })
+}

@@ -134,6 +134,9 @@ pub struct Diagnosis {
     pub updated: FitQuality,
     pub diagnosed: FitQuality,
     pub diagnosed_deck: Deck,
+    /// The deck after the first stage, its own parameters updated (what
+    /// `updated` scores).
+    pub updated_deck: Deck,
     /// Parameter values of the update (relative changes), empty if none.
     pub updated_parameters: ParameterValues,
     pub update_note: Option<String>,
@@ -197,17 +200,9 @@ pub fn diagnose(
     let engine = Engine::new(&data);
     let j0 = engine.noise_level();
     let zeta0 = data.half_power_zeta();
-    let w = &data.omegas;
-    let wc = (w[0] * w[w.len() - 1]).sqrt();
     let deck_damping = hdamp::of_deck(deck);
     let deck_form = DampingForm::of(deck_damping);
-    let start_damping = deck_form
-        .clone()
-        .map(|(form, x)| DampingState { form, x })
-        .unwrap_or(DampingState {
-            form: DampingForm::Modal,
-            x: DampingForm::Modal.start(zeta0, wc),
-        });
+    let start_damping = fit::start_damping(deck_damping, &data);
 
     lap("prepare test data", 0);
     // 1. The deck as given, then with its own parameters updated.
@@ -283,6 +278,7 @@ pub fn diagnose(
         ));
     }
     let updated = quality(&engine, &updated_deck, &start_damping)?;
+    let first_stage_deck = updated_deck.clone();
     lap("update the deck's parameters", engine.evaluations.get());
 
     // 2.–4. Greedy extensions, from the updated deck and (if the update
@@ -438,6 +434,7 @@ pub fn diagnose(
         updated,
         diagnosed,
         diagnosed_deck,
+        updated_deck: first_stage_deck,
         updated_parameters,
         update_note,
         noise_level: j0,

@@ -18,11 +18,11 @@ use super::charts::ChartError;
 use super::data::pretty_units;
 use super::html::esc;
 use crate::diagnosis::data::TestData;
-use crate::diagnosis::fit::{self, DampingForm, DampingState, Mask};
+use crate::diagnosis::fit::{self, Mask};
 use crate::diagnosis::hypotheses::damping as hdamp;
 use crate::diagnosis::output::parameter_unit;
 use crate::diagnosis::{describe_damping, sig, DiagnoseError, Diagnosis, FitQuality};
-use crate::model::{self, Damping};
+use crate::model::Damping;
 use crate::testdata::MeasuredFrfs;
 
 /// Names of the three models, in the order of the fit table.
@@ -226,22 +226,11 @@ fn model_frfs(
 ) -> Result<(Vec<Vec<Complex64>>, Damping), DiagnoseError> {
     let mm = fit::modal_model(deck, data)?;
     let all = Mask::all(data);
-    let damping = match (refit, DampingForm::of(damping)) {
-        (true, Some((form, x))) => fit::fit_damping(&mm, &DampingState { form, x }, data, &all, 10)
-            .0
-            .damping(),
-        (true, None) => {
-            // No damping in the deck: start from the measured half-power ζ,
-            // as the diagnosis does.
-            let w = &data.omegas;
-            let wc = (w[0] * w[w.len() - 1]).sqrt();
-            let form = DampingForm::Modal;
-            let x = form.start(data.half_power_zeta(), wc);
-            fit::fit_damping(&mm, &DampingState { form, x }, data, &all, 10)
-                .0
-                .damping()
-        }
-        (false, _) => damping,
+    let damping = if refit {
+        let start = fit::start_damping(damping, data);
+        fit::fit_damping(&mm, &start, data, &all, 10).0.damping()
+    } else {
+        damping
     };
     let pred = fit::predict(&mm, damping, data, &all);
     Ok((
@@ -277,7 +266,7 @@ pub fn overlay(
             label: format!("R{}", i + 1),
         })
         .collect();
-    let updated = model::updated_deck(deck, &d.updated_parameters);
+    let updated = d.updated_deck.clone();
     let models = [
         (deck, hdamp::of_deck(deck), true),
         (&updated, hdamp::of_deck(&updated), true),
