@@ -137,9 +137,24 @@ fn bad_input_exits_2_names_the_file_and_line_and_writes_nothing() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("dataset_milestone_in_header.uff"), "{err}");
-    assert!(err.contains("line "), "{err}");
+    assert!(
+        err.contains("line 21 (byte 1543)"),
+        "line and byte offset: {err}"
+    );
+    assert!(err.contains("dataset #1 (type 58)"), "dataset index: {err}");
     assert!(err.contains("2508876"), "says what was declared: {err}");
     assert!(!out_path.exists(), "no partial output file");
+    // The same for UFF output (58b).
+    let uff_path = tmp("never.uff");
+    let _ = std::fs::remove_file(&uff_path);
+    let out = frfup(&[
+        "convert",
+        input.to_str().unwrap(),
+        uff_path.to_str().unwrap(),
+        "--binary",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!uff_path.exists(), "no partial 58b file");
     let dir = out_path.parent().unwrap();
     let leftovers: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
@@ -292,4 +307,154 @@ fn dataset_164_inch_pound_units_are_converted_to_si() {
         (got - expected).abs() <= 1e-12 * expected.abs(),
         "{got} vs {expected}"
     );
+}
+
+/// `info --json` keys are pinned: the ten for a 58 record plus the
+/// text line's index, name, band units and units (README, `frfup info`);
+/// other datasets carry index, number, line and a summary.
+#[test]
+fn info_json_key_set_is_exact() {
+    let out = frfup(&[
+        "info",
+        shared("uffl-jl/dataset151_164_58_55.unv").to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let keys = |v: &serde_json::Value| -> Vec<String> {
+        let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+        k.sort();
+        k
+    };
+    let sorted = |k: &[&str]| -> Vec<String> {
+        let mut k: Vec<String> = k.iter().map(|s| s.to_string()).collect();
+        k.sort();
+        k
+    };
+    assert_eq!(keys(&v), sorted(&["records", "notes"]));
+    let records = v["records"].as_array().unwrap();
+    let numbers: Vec<i64> = records
+        .iter()
+        .map(|r| r["dataset"].as_i64().unwrap())
+        .collect();
+    assert_eq!(numbers, [151, 164, 58, 55]);
+    let function58 = sorted(&[
+        // the keys
+        "dataset",
+        "response_node",
+        "response_dir",
+        "reference_node",
+        "reference_dir",
+        "function_type",
+        "ordinate_type",
+        "points",
+        "abscissa_min",
+        "abscissa_max",
+        // what the text line also shows
+        "index",
+        "binary",
+        "function",
+        "even",
+        "abscissa_units",
+        "units",
+        "numerator_data_type",
+        "denominator_data_type",
+    ]);
+    let other = sorted(&["index", "dataset", "line", "summary"]);
+    for (i, r) in records.iter().enumerate() {
+        assert_eq!(r["index"], i as i64 + 1);
+        let expected = if r["dataset"] == 58 {
+            &function58
+        } else {
+            &other
+        };
+        assert_eq!(&keys(r), expected, "record {i}");
+    }
+    assert_eq!(records[2]["response_node"], 1);
+    assert_eq!(records[2]["reference_node"], 22);
+}
+
+/// A file above the bar's 8 MB threshold read with stderr not a terminal (as
+/// here), with and without `--quiet`: no bar, nothing at all on stderr, and
+/// every dataset read.
+#[test]
+fn no_progress_output_off_a_terminal_or_with_quiet() {
+    let one = std::fs::read(shared("pyuff/measurement.uff")).unwrap();
+    let copies = (9 << 20) / one.len() + 1;
+    let big = tmp("big_measurement.uff");
+    std::fs::write(&big, one.repeat(copies)).unwrap();
+    assert!(std::fs::metadata(&big).unwrap().len() > 8 << 20);
+    for quiet in [false, true] {
+        let mut args = vec!["info", big.to_str().unwrap()];
+        if quiet {
+            args.insert(0, "--quiet");
+        }
+        let out = frfup(&args);
+        assert!(out.status.success(), "quiet {quiet}");
+        assert!(
+            out.stderr.is_empty(),
+            "quiet {quiet}: {:?}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let rows = String::from_utf8(out.stdout).unwrap().lines().count();
+        assert_eq!(
+            rows,
+            1 + 3 * copies,
+            "quiet {quiet}: header + 3 datasets per copy"
+        );
+    }
+    let _ = std::fs::remove_file(&big);
+}
+
+/// `convert --to displacement-real` to CSV: one column per channel (real
+/// data), the 0 Hz line written as 0 with a note, and every other line equal
+/// to Eq. 50 applied by hand to the accelerance read from the input (1e-12
+/// relative: the CSV prints shortest round-trip decimals).
+#[test]
+fn convert_displacement_real_csv_has_one_column_per_channel() {
+    let input = shared("pyuff/measurement.uff");
+    let out_path = tmp("measurement_h.csv");
+    let out = frfup(&[
+        "convert",
+        input.to_str().unwrap(),
+        out_path.to_str().unwrap(),
+        "--to",
+        "displacement-real",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("0 Hz line is set to 0"));
+    let text = std::fs::read_to_string(&out_path).unwrap();
+    let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0], ["frequency_hz", "1+x/1+x", "1+x/2+x", "1+x/3+x"]);
+    assert_eq!(rows.len(), 1 + 1001);
+    let file = frfup_parsers::uff::parse(&std::fs::read(&input).unwrap()).unwrap();
+    for (c, d) in file.datasets.iter().enumerate() {
+        let frfup_parsers::uff::Dataset::Function(f) = d else {
+            panic!("58 expected")
+        };
+        let frfup_parsers::uff::Ordinate::Complex(v) = &f.ordinate else {
+            panic!("complex expected")
+        };
+        assert_eq!(rows[1][c + 1].parse::<f64>().unwrap(), 0.0);
+        for line in [1, 10, 500, 1000] {
+            let hz: f64 = rows[line + 1][0].parse().unwrap();
+            assert_eq!(hz, f.abscissa_at(line));
+            let w = 2.0 * std::f64::consts::PI * hz;
+            let (a, b) = v[line];
+            let expected = -a.signum() * (a * a + b * b).sqrt() / (w * w);
+            let got: f64 = rows[line + 1][c + 1].parse().unwrap();
+            assert!(
+                (got - expected).abs() <= 1e-12 * expected.abs(),
+                "channel {c} line {line}: {got} vs {expected}"
+            );
+        }
+    }
 }

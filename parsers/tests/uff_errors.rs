@@ -312,3 +312,80 @@ fn not_a_uff_file() {
     let e = error(b"    -1\n  abc\n    -1\n");
     assert_eq!(e.line, Some(2));
 }
+
+/// Dataset 2420 text: part UID 7 "Part seven"; systems 5 (cartesian, color 8)
+/// and 12 (cylindrical, color 2), each with four `1P3D25.16` rows.
+fn dataset2420(row9: Option<&str>) -> Vec<u8> {
+    let row = |v: [&str; 3]| format!("{:>25}{:>25}{:>25}\n", v[0], v[1], v[2]);
+    let (one, zero) = ("1.0000000000000000D+00", "0.0000000000000000D+00");
+    let mut s = String::from("    -1\n  2420\n         7\nPart seven\n");
+    s += "         5         0         8\nCS five\n";
+    s += &row([one, zero, zero]);
+    s += &row([zero, one, zero]);
+    s += &row9.map_or_else(|| row([zero, zero, one]), |t| format!("{t}\n"));
+    s += &row([
+        "2.5000000000000000D-01",
+        "-1.5000000000000000D+00",
+        "3.0E+000",
+    ]);
+    s += "        12         1         2\nCyl twelve\n";
+    s += &row([zero, "-1.0000000000000000D+00", zero]);
+    s += &row([one, zero, zero]);
+    s += &row([zero, zero, one]);
+    s += &row(["1.0000000000000000D+01", zero, "-2.0000000000000000D-03"]);
+    s += "    -1\n";
+    s.into_bytes()
+}
+
+/// 2420 has no real fixture: the part, both systems' labels, types, colors,
+/// names and transformation rows (axes then origin) are read exactly (the
+/// values are exact in binary), and a bad row names file line and dataset.
+#[test]
+fn dataset_2420_coordinate_systems() {
+    let file = read(&dataset2420(None)).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(file.datasets.len(), 1);
+    let Dataset::Other(o) = &file.datasets[0] else {
+        panic!("2420 expected")
+    };
+    assert_eq!(o.number, 2420);
+    let uff::OtherKind::CoordinateSystems { part, systems } = &o.kind else {
+        panic!("coordinate systems expected: {:?}", o.kind)
+    };
+    let part = part.as_ref().expect("2420 has a part");
+    assert_eq!((part.uid, part.name.as_str()), (7, "Part seven"));
+    assert_eq!(systems.len(), 2);
+    let summary: Vec<_> = systems
+        .iter()
+        .map(|c| (c.label, c.cs_type, c.reference_cs, c.color, c.name.as_str()))
+        .collect();
+    assert_eq!(
+        summary,
+        [(5, 0, 0, 8, "CS five"), (12, 1, 0, 2, "Cyl twelve")]
+    );
+    assert_eq!(
+        systems[0].definition,
+        uff::CsDefinition::Matrix([
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.25, -1.5, 3.0]
+        ])
+    );
+    assert_eq!(
+        systems[1].definition,
+        uff::CsDefinition::Matrix([
+            [0.0, -1.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [10.0, 0.0, -2e-3]
+        ])
+    );
+
+    let e = error(&dataset2420(Some("  not a number")));
+    assert_eq!(
+        (e.dataset_index, e.dataset_number, e.line),
+        (Some(0), Some(2420), Some(9)),
+        "{e}"
+    );
+    assert!(e.message.contains("1P3D25.16"), "{e}");
+}

@@ -464,3 +464,21 @@ fn other(file: &uff::UffFile, k: usize) -> &uff::OtherDataset {
         Dataset::Function(_) => panic!("dataset {k} is a function"),
     }
 }
+
+/// Dataset 1858 (58 qualifiers) is kept: its seven records as text, in order
+/// (trailing blanks trimmed), without a note.
+#[test]
+fn dataset_1858_qualifiers_are_kept() {
+    let file = read("uffl-jl/dataset1858.unv").expect("reads");
+    assert_eq!(file.datasets.len(), 1);
+    assert!(file.notes.is_empty(), "{:?}", file.notes);
+    let o = other(&file, 0);
+    assert_eq!(o.number, 1858);
+    let OtherKind::Qualifiers(records) = &o.kind else {
+        panic!("1858 qualifiers expected: {:?}", o.kind)
+    };
+    assert_eq!(records.len(), 7, "{records:?}");
+    assert!(records[3].ends_with("5.2706007E-02"), "{records:?}");
+    assert_eq!(records[5].trim(), "X+    X+");
+    assert_eq!(records[6].trim(), "NONE");
+}
