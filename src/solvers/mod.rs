@@ -6,4 +6,5 @@
 
 pub mod eigen;
 pub mod frf;
+pub(crate) mod nested_dissection;
 pub(crate) mod sparse_ops;

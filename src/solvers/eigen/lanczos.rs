@@ -15,6 +15,7 @@
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
 use faer::linalg::matmul::matmul;
+use faer::perm::PermRef;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef;
 use faer::sparse::linalg::cholesky::{
@@ -22,10 +23,12 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::SymbolicSparseColMat;
 use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
 
 use super::{EigenError, EigenTuning};
 use crate::model::SparseMatrix;
+use crate::solvers::nested_dissection;
 use crate::solvers::sparse_ops::{par, par_iter, sp_mul, PairPattern};
 
 /// P(K − σM)Pᵀ = L Lᵀ with access to the separate triangular solves. The
@@ -44,20 +47,19 @@ impl ShiftedCholesky {
     /// Factors K − σM, retrying with 100σ (up to five times) if it is not
     /// numerically positive definite.
     pub fn new(k: &SparseMatrix, m: &SparseMatrix, shift: f64) -> Result<Self, EigenError> {
+        Self::with_ordering(k, m, shift, FillOrdering::Best)
+    }
+
+    /// As [`ShiftedCholesky::new`] with a chosen fill-reducing ordering.
+    pub(crate) fn with_ordering(
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        shift: f64,
+        ordering: FillOrdering,
+    ) -> Result<Self, EigenError> {
         let pattern =
             PairPattern::new(k, m).map_err(|detail| EigenError::InvalidInput { detail })?;
-        let symbolic = factorize_symbolic_cholesky(
-            pattern.symbolic().as_ref(),
-            Side::Lower,
-            SymmetricOrdering::Amd,
-            CholeskySymbolicParams {
-                supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-                ..Default::default()
-            },
-        )
-        .map_err(|e| EigenError::InvalidInput {
-            detail: format!("symbolic Cholesky: {e:?}"),
-        })?;
+        let symbolic = fill_reducing_symbolic(pattern.symbolic(), ordering)?;
         let n = k.nrows();
         let fwd = match symbolic.perm() {
             Some(p) => p.arrays().0.to_vec(),
@@ -181,6 +183,65 @@ impl ShiftedCholesky {
         }
         u
     }
+}
+
+/// Fill-reducing ordering of the sparse Cholesky factor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum FillOrdering {
+    /// Whichever of the two below gives fewer factor entries.
+    Best,
+    Amd,
+    NestedDissection,
+}
+
+/// Symbolic Cholesky of the pattern. With [`FillOrdering::Best`], the better
+/// (fewer factor entries) of nested dissection ([`nested_dissection`]) and
+/// AMD: nested dissection wins by far on 3-D lattices (cube 26³: 93 M against
+/// 224 M entries), AMD can win on thin or irregular models. Both analyses are
+/// cheap next to the numeric factorisation.
+fn fill_reducing_symbolic(
+    pattern: &SymbolicSparseColMat<usize>,
+    ordering: FillOrdering,
+) -> Result<SymbolicCholesky<usize>, EigenError> {
+    let params = || CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    let analyse = |ordering| {
+        factorize_symbolic_cholesky(pattern.as_ref(), Side::Lower, ordering, params()).map_err(
+            |e| EigenError::InvalidInput {
+                detail: format!("symbolic Cholesky: {e:?}"),
+            },
+        )
+    };
+    if ordering == FillOrdering::Amd {
+        return analyse(SymmetricOrdering::Amd);
+    }
+    let n = pattern.nrows();
+    let fwd = nested_dissection::order(n, pattern.col_ptr(), pattern.row_idx());
+    let mut inv = vec![0usize; n];
+    for (i, &f) in fwd.iter().enumerate() {
+        inv[f] = i;
+    }
+    let nd = analyse(SymmetricOrdering::Custom(PermRef::new_checked(
+        &fwd, &inv, n,
+    )))?;
+    if ordering == FillOrdering::NestedDissection {
+        return Ok(nd);
+    }
+    let amd = analyse(SymmetricOrdering::Amd)?;
+    if std::env::var_os("FRFUP_EIGEN_TRACE").is_some() {
+        eprintln!(
+            "[sparse] nnz(L): nested dissection {}, AMD {}",
+            nd.len_val(),
+            amd.len_val()
+        );
+    }
+    Ok(if nd.len_val() <= amd.len_val() {
+        nd
+    } else {
+        amd
+    })
 }
 
 /// Result of [`shift_invert`].
@@ -609,5 +670,66 @@ fn ritz(
         vectors: y,
         applications,
         restarts,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::Triplet;
+
+    /// A k × k × k grid pencil: K = 7-point Laplacian + 0.01 I, M = I.
+    fn grid_pencil(k: usize) -> (SparseMatrix, SparseMatrix) {
+        let n = k * k * k;
+        let id = |x: usize, y: usize, z: usize| (z * k + y) * k + x;
+        let mut kt = Vec::new();
+        for z in 0..k {
+            for y in 0..k {
+                for x in 0..k {
+                    let i = id(x, y, z);
+                    kt.push(Triplet::new(i, i, 6.01));
+                    for (dx, dy, dz) in [(1, 0, 0), (0, 1, 0), (0, 0, 1)] {
+                        let (a, b, c) = (x + dx, y + dy, z + dz);
+                        if a < k && b < k && c < k {
+                            let j = id(a, b, c);
+                            kt.push(Triplet::new(i, j, -1.0));
+                            kt.push(Triplet::new(j, i, -1.0));
+                        }
+                    }
+                }
+            }
+        }
+        let mt: Vec<_> = (0..n).map(|i| Triplet::new(i, i, 1.0)).collect();
+        (
+            SparseMatrix::try_new_from_triplets(n, n, &kt).unwrap(),
+            SparseMatrix::try_new_from_triplets(n, n, &mt).unwrap(),
+        )
+    }
+
+    #[test]
+    fn nested_dissection_matches_amd_eigenvalues() {
+        let (k, m) = grid_pencil(14);
+        let tuning = EigenTuning::default();
+        let run = |ordering| {
+            let chol = ShiftedCholesky::with_ordering(&k, &m, -1e-3, ordering).unwrap();
+            let op = |y: MatRef<'_, f64>| chol.apply(&m, y);
+            let out = block_lanczos(&op, k.nrows(), 12, &tuning).unwrap();
+            let omega2: Vec<f64> = out.values.iter().map(|mu| chol.shift + 1.0 / mu).collect();
+            (omega2, chol.factor_nonzeros())
+        };
+        let (nd, nd_fill) = run(FillOrdering::NestedDissection);
+        let (amd, amd_fill) = run(FillOrdering::Amd);
+        for (a, b) in nd.iter().zip(&amd) {
+            assert!((a - b).abs() <= 1e-9 * b.abs(), "ω²: ND {a}, AMD {b}");
+        }
+        // On so small a grid the level-set separators (diagonal planes) do not
+        // pay off yet (14³: ND 239 k, AMD 218 k); on the 101,400-DOF cube
+        // lattice ND gives 93 M against AMD's 224 M.
+        assert!(
+            (nd_fill as f64) < 1.5 * amd_fill as f64,
+            "nnz(L): ND {nd_fill}, AMD {amd_fill}"
+        );
+        let best = ShiftedCholesky::new(&k, &m, -1e-3).unwrap();
+        assert_eq!(best.factor_nonzeros(), nd_fill.min(amd_fill));
     }
 }
