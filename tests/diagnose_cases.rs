@@ -6,11 +6,13 @@
 //! to PNG with `rsvg-convert` when it is installed (`scripts/render_png.sh`).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use frfup::diagnosis::{diagnose, write_outputs, DiagnoseOptions, Diagnosis, Finding};
 use frfup::parsers::deck::Deck;
 use frfup::testdata::MeasuredFrfs;
+
+mod png_support;
+use png_support::{render_and_check, rsvg_available};
 
 fn load(case: &str) -> (Deck, MeasuredFrfs) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/diagnose");
@@ -243,31 +245,6 @@ fn tree(dir: &Path) -> Vec<String> {
     out
 }
 
-fn rsvg() -> bool {
-    Command::new("rsvg-convert")
-        .arg("--version")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
-/// (width, height) of a PNG from its IHDR chunk.
-fn png_size(bytes: &[u8]) -> (u32, u32) {
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
-    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-    (be(16), be(20))
-}
-
-/// `width="…" height="…"` of the SVG root.
-fn svg_size(svg: &str) -> (u32, u32) {
-    let head = &svg[..svg.find('>').unwrap()];
-    let attr = |name: &str| -> u32 {
-        let i = head.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
-        head[i..].split('"').next().unwrap().parse().unwrap()
-    };
-    (attr("width"), attr("height"))
-}
-
 /// Mean |log10(model/measured)| over the lines where the measured FRF stands
 /// well above the noise, all channels.
 fn log_misfit(measured: &[frfup::report::charts::FrfChannel], series: usize) -> f64 {
@@ -424,30 +401,14 @@ fn report_with_localisation_map_and_frf_overlays() {
         o.series_labels
     );
 
-    if !rsvg() {
-        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+    if !rsvg_available() {
         return;
     }
     let png_dir = dir.with_file_name("joint-png");
     let _ = std::fs::remove_dir_all(&png_dir);
     std::fs::create_dir_all(png_dir.join("frf")).unwrap();
     for f in files.iter().filter(|f| f.ends_with(".svg")) {
-        let png = png_dir.join(f.replace(".svg", ".png"));
-        let out = Command::new("rsvg-convert")
-            .arg("--background-color=white")
-            .arg("-o")
-            .arg(&png)
-            .arg(dir.join(f))
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{f}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let b = std::fs::read(&png).unwrap();
-        assert!(b.len() > 8_000, "{f}: PNG only {} bytes", b.len());
-        assert_eq!(png_size(&b), svg_size(&text(f)), "{f}");
+        render_and_check(&dir.join(f), &png_dir.join(f.replace(".svg", ".png")));
     }
     eprintln!("PNGs in {}", png_dir.display());
 }

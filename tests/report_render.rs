@@ -5,7 +5,6 @@
 //! installs it).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use faer::c64;
 use frfup::model::ParameterValues;
@@ -16,7 +15,9 @@ use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, UpdateOptions, UpdateResult};
 
 mod campaign_support;
+mod png_support;
 use campaign_support::{band, z_campaign};
+use png_support::{render_and_check, rsvg_available};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -202,35 +203,9 @@ fn single_channel_and_degenerate_results_still_report() {
     assert!(html.contains("no iteration"));
 }
 
-fn rsvg() -> bool {
-    Command::new("rsvg-convert")
-        .arg("--version")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
-/// (width, height) of a PNG from its IHDR chunk.
-fn png_size(bytes: &[u8]) -> (u32, u32) {
-    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
-    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-    (be(16), be(20))
-}
-
-/// `width="…" height="…"` of the SVG root.
-fn svg_size(svg: &str) -> (u32, u32) {
-    let head = &svg[..svg.find('>').unwrap()];
-    let attr = |name: &str| -> u32 {
-        let i = head.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
-        head[i..].split('"').next().unwrap().parse().unwrap()
-    };
-    (attr("width"), attr("height"))
-}
-
 #[test]
 fn every_chart_renders_to_a_png() {
-    if !rsvg() {
-        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+    if !rsvg_available() {
         return;
     }
     let (deck, test, result) = run(&(2..=16).collect::<Vec<_>>());
@@ -242,29 +217,7 @@ fn every_chart_renders_to_a_png() {
         .collect();
     assert_eq!(svgs.len(), 5 + 15);
     for svg in svgs {
-        let png = svg.with_extension("png");
-        let out = Command::new("rsvg-convert")
-            .arg("--background-color=white")
-            .arg("-o")
-            .arg(&png)
-            .arg(svg)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}: {}",
-            svg.display(),
-            String::from_utf8_lossy(&out.stderr)
-        );
-        let bytes = std::fs::read(&png).unwrap();
-        assert!(
-            bytes.len() > 8_000,
-            "{}: only {} bytes",
-            png.display(),
-            bytes.len()
-        );
-        let text = std::fs::read_to_string(svg).unwrap();
-        assert_eq!(png_size(&bytes), svg_size(&text), "{}", png.display());
+        render_and_check(svg, &svg.with_extension("png"));
     }
     eprintln!("PNGs in {}", dir.display());
 }
@@ -286,19 +239,12 @@ fn garteur_report() {
         command: None,
     };
     let files = write_report(&dir, &result, &deck, &test, &inputs).unwrap();
-    if rsvg() {
+    if rsvg_available() {
         for svg in files
             .iter()
             .filter(|p| p.extension().is_some_and(|e| e == "svg"))
         {
-            let ok = Command::new("rsvg-convert")
-                .arg("--background-color=white")
-                .arg("-o")
-                .arg(svg.with_extension("png"))
-                .arg(svg)
-                .status()
-                .unwrap();
-            assert!(ok.success());
+            render_and_check(svg, &svg.with_extension("png"));
         }
     }
     eprintln!("GARTEUR report in {}", dir.display());

@@ -9,7 +9,7 @@ use frfup_parsers::deck::Deck;
 
 use serde_json::{json, Map, Value};
 
-use super::{sig, Diagnosis, FitQuality};
+use super::{sig, Diagnosis, Finding, FitQuality};
 use crate::fsio::write_atomic;
 use crate::testdata::MeasuredFrfs;
 
@@ -43,6 +43,19 @@ pub fn parameter_unit(name: &str, dofs: &[String]) -> &'static str {
         "beta" => " s",
         _ => "",
     }
+}
+
+/// A finding's fitted values with one standard deviation and units,
+/// e.g. `k = 300.0 ± 1.2 N·m/rad`.
+pub fn finding_values(f: &Finding) -> Vec<String> {
+    f.parameters
+        .iter()
+        .map(|(k, v)| {
+            let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
+            let unit = parameter_unit(k, &f.dofs);
+            format!("{k} = {} ± {}{unit}", sig(*v), sig(u))
+        })
+        .collect()
 }
 
 /// `diagnosis.json` as a value.
@@ -146,15 +159,7 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
         );
     }
     for f in &d.findings {
-        let vals: Vec<String> = f
-            .parameters
-            .iter()
-            .map(|(k, v)| {
-                let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
-                let unit = parameter_unit(k, &f.dofs);
-                format!("{k} = {} ± {}{unit}", sig(*v), sig(u))
-            })
-            .collect();
+        let vals = finding_values(f);
         s.push_str(&format!(
             "- **{}**: {}{}. Held-out prediction error {} → {}.\n",
             f.physics.name(),

@@ -564,15 +564,7 @@ fn frf_overlay(
         channels: Vec::new(),
         marks_hz: result.updating_frequencies.hz(),
         mark_label: "updating frequency".into(),
-        resonances: result
-            .resonances
-            .iter()
-            .enumerate()
-            .map(|(i, r)| ResonanceMark {
-                hz: r.frequency_hz,
-                label: format!("R{}", i + 1),
-            })
-            .collect(),
+        resonances: resonance_marks(&result.resonances),
     };
     let Some(meas) = meas else {
         return o;
@@ -715,6 +707,20 @@ fn mac_chart(
         mac_panel("updated model", updated, &ods, &meas.lines_hz, last_pairs),
     ];
     c
+}
+
+/// The measured resonances as chart marks R1, R2, …
+pub(crate) fn resonance_marks(
+    resonances: &[crate::updating::frequencies::Resonance],
+) -> Vec<ResonanceMark> {
+    resonances
+        .iter()
+        .enumerate()
+        .map(|(i, r)| ResonanceMark {
+            hz: r.frequency_hz,
+            label: format!("R{}", i + 1),
+        })
+        .collect()
 }
 
 #[cfg(test)]

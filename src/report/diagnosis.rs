@@ -12,15 +12,15 @@ use std::fmt::Write as _;
 use frfup_parsers::deck::{Analysis, Deck};
 use num_complex::Complex64;
 
-use super::charts::frf_overlay::{self, FrfChannel, FrfOverlay, ResonanceMark};
+use super::charts::frf_overlay::{self, FrfChannel, FrfOverlay};
 use super::charts::localisation::{self, LocalisationMap, MapNode};
 use super::charts::ChartError;
-use super::data::pretty_units;
-use super::html::esc;
+use super::data::{pretty_units, resonance_marks};
+use super::html::{chart, esc, frf_charts};
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, Mask};
 use crate::diagnosis::hypotheses::damping as hdamp;
-use crate::diagnosis::output::parameter_unit;
+use crate::diagnosis::output::finding_values;
 use crate::diagnosis::{describe_damping, sig, DiagnoseError, Diagnosis, FitQuality};
 use crate::model::Damping;
 use crate::testdata::MeasuredFrfs;
@@ -257,15 +257,7 @@ pub fn overlay(
         test.kind.name()
     ));
     o.frequencies_hz = data.lines_hz.clone();
-    o.resonances = data
-        .resonances
-        .iter()
-        .enumerate()
-        .map(|(i, r)| ResonanceMark {
-            hz: r.frequency_hz,
-            label: format!("R{}", i + 1),
-        })
-        .collect();
+    o.resonances = resonance_marks(&data.resonances);
     let updated = d.updated_deck.clone();
     let models = [
         (deck, hdamp::of_deck(deck), true),
@@ -337,10 +329,6 @@ th{background:#f2f2f2}td.l,th.l{text-align:left}\
 
 fn num(v: f64, d: usize) -> String {
     super::charts::fmt_fixed(v, d)
-}
-
-fn chart(s: &mut String, svg: &str) {
-    let _ = writeln!(s, "<div class=\"chart\">{}</div>", svg.trim());
 }
 
 fn quality_rows(d: &Diagnosis) -> [(&'static str, &FitQuality); 3] {
@@ -453,16 +441,7 @@ pub fn diagnosis_html(
     if let Some(n) = &charts.frf_note {
         let _ = writeln!(s, "<p class=\"muted\">{}</p>", esc(n));
     }
-    chart(&mut s, &charts.frf_sheet);
-    for (label, svg) in &charts.frf_channels {
-        let _ = writeln!(
-            s,
-            "<details><summary>{} (magnitude and phase)</summary>",
-            esc(label)
-        );
-        chart(&mut s, svg);
-        s.push_str("</details>\n");
-    }
+    frf_charts(&mut s, &charts.frf_sheet, &charts.frf_channels);
 
     // Where.
     let _ = writeln!(s, "<h2 id=\"where\">Where</h2>");
@@ -489,20 +468,7 @@ pub fn diagnosis_html(
     } else {
         s.push_str("<table>\n<tr><th class=\"l\">physics</th><th class=\"l\">hypothesis (where)</th><th class=\"l\">fitted values ± 1 standard deviation</th><th>held-out error before</th><th>after</th></tr>\n");
         for f in &d.findings {
-            let vals: Vec<String> = f
-                .parameters
-                .iter()
-                .map(|(k, v)| {
-                    let u = f.uncertainty.get(k).copied().unwrap_or(f64::NAN);
-                    format!(
-                        "{} = {} ± {}{}",
-                        esc(k),
-                        esc(&sig(*v)),
-                        esc(&sig(u)),
-                        parameter_unit(k, &f.dofs)
-                    )
-                })
-                .collect();
+            let vals: Vec<String> = finding_values(f).iter().map(|v| esc(v)).collect();
             let _ = writeln!(
                 s,
                 "<tr><td class=\"l\"><b>{}</b></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>",

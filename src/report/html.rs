@@ -100,8 +100,23 @@ fn kv(s: &mut String, rows: &[(&str, String)]) {
     s.push_str("</table>\n");
 }
 
-fn chart(s: &mut String, svg: &str) {
+/// An inline SVG chart.
+pub(crate) fn chart(s: &mut String, svg: &str) {
     let _ = writeln!(s, "<div class=\"chart\">{}</div>", svg.trim());
+}
+
+/// The FRF contact sheet, then each channel's chart folded under its label.
+pub(crate) fn frf_charts(s: &mut String, sheet: &str, channels: &[(String, String)]) {
+    chart(s, sheet);
+    for (label, svg) in channels {
+        let _ = writeln!(
+            s,
+            "<details><summary>{} (magnitude and phase)</summary>",
+            esc(label)
+        );
+        chart(s, svg);
+        s.push_str("</details>\n");
+    }
 }
 
 /// The page.
@@ -157,16 +172,7 @@ pub fn report_html(
         "<h2 id=\"frf\">FRFs: measured, initial and updated model</h2>"
     );
     let _ = writeln!(s, "<p>Model FRFs damped with: {}.</p>", esc(&data.damping));
-    chart(&mut s, &charts.frf_sheet);
-    for (label, svg) in &charts.frf_channels {
-        let _ = writeln!(
-            s,
-            "<details><summary>{} (magnitude and phase)</summary>",
-            esc(label)
-        );
-        chart(&mut s, svg);
-        s.push_str("</details>\n");
-    }
+    frf_charts(&mut s, &charts.frf_sheet, &charts.frf_channels);
 
     let _ = writeln!(s, "<h2 id=\"warnings\">Warnings</h2>");
     warnings(&mut s, result, data);

@@ -1,0 +1,62 @@
+//! Rendering report charts (SVG) to PNG with `rsvg-convert` (Debian's
+//! librsvg2-bin, installed by scripts/render_png.sh) and checking the PNG.
+
+use std::path::Path;
+use std::process::Command;
+
+/// True when `rsvg-convert` runs; otherwise prints why the rendering is skipped.
+pub fn rsvg_available() -> bool {
+    let ok = Command::new("rsvg-convert")
+        .arg("--version")
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if !ok {
+        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+    }
+    ok
+}
+
+/// Render `svg` to `png` on white; the PNG must be more than 8 kB (a chart,
+/// not an empty frame) and exactly the SVG's width × height.
+pub fn render_and_check(svg: &Path, png: &Path) {
+    let out = Command::new("rsvg-convert")
+        .arg("--background-color=white")
+        .arg("-o")
+        .arg(png)
+        .arg(svg)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}: {}",
+        svg.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let bytes = std::fs::read(png).unwrap();
+    assert!(
+        bytes.len() > 8_000,
+        "{}: only {} bytes",
+        png.display(),
+        bytes.len()
+    );
+    let text = std::fs::read_to_string(svg).unwrap();
+    assert_eq!(png_size(&bytes), svg_size(&text), "{}", png.display());
+}
+
+/// (width, height) of a PNG from its IHDR chunk.
+fn png_size(bytes: &[u8]) -> (u32, u32) {
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "not a PNG");
+    let be = |i: usize| u32::from_be_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    (be(16), be(20))
+}
+
+/// `width="…" height="…"` of the SVG root.
+fn svg_size(svg: &str) -> (u32, u32) {
+    let head = &svg[..svg.find('>').unwrap()];
+    let attr = |name: &str| -> u32 {
+        let i = head.find(&format!("{name}=\"")).unwrap() + name.len() + 2;
+        head[i..].split('"').next().unwrap().parse().unwrap()
+    };
+    (attr("width"), attr("height"))
+}
