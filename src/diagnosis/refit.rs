@@ -196,37 +196,46 @@ pub fn fit_joint(
     let n = lo.len();
     let k = problem.n_logs();
     let clamp = |s: &[f64]| -> Vec<f64> { (0..n).map(|i| s[i].clamp(lo[i], hi[i])).collect() };
-    let mut seeds: Vec<Vec<f64>> = starts
-        .iter()
-        .filter(|s| s.len() == n)
-        .map(|s| clamp(s))
-        .collect();
-    if settings.frequency_stage && n > 0 && !data.resonances.is_empty() {
+    let freq_stage = settings.frequency_stage && n > 0 && !data.resonances.is_empty();
+    // One model solution per start serves both stages: its resonance
+    // misfit ranks the starts of the frequency stage, its damping-profiled
+    // FRF cost ranks the starts of the FRF stage.
+    let profile = |mm: &ModalModel| -> Option<(f64, DampingState)> {
+        let (d, r) = fit::fit_damping(mm, damp, data, mask, 10);
+        let c = fit::mean_sq(&r);
+        c.is_finite().then_some((c, d))
+    };
+    let mut ranked: Vec<(f64, Vec<f64>)> = Vec::new();
+    let mut profiled: Vec<(f64, Vec<f64>, DampingState)> = Vec::new();
+    for s in starts.iter().filter(|s| s.len() == n) {
+        let s = clamp(s);
+        let Some(mm) = problem.model(engine, &s) else {
+            continue;
+        };
+        if freq_stage {
+            let r = fit::frequency_residuals(&mm, data);
+            ranked.push((fit::mean_sq(&r), s.clone()));
+        }
+        if let Some((c, d)) = profile(&mm) {
+            profiled.push((c, s, d));
+        }
+    }
+    if freq_stage {
         let freq = |x: &[f64]| -> Option<Vec<f64>> {
             let mm = problem.model(engine, x)?;
             Some(fit::frequency_residuals(&mm, data))
         };
-        let mut ranked: Vec<(f64, Vec<f64>)> = seeds
-            .iter()
-            .filter_map(|s| freq(s).map(|r| (fit::mean_sq(&r), s.clone())))
-            .collect();
         ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (_, s) in ranked.into_iter().take(2) {
-            if let Some(o) = fit::lm(&freq, &s, &lo, &hi, settings.iterations) {
-                seeds.push(o.x);
+            let Some(o) = fit::lm(&freq, &s, &lo, &hi, settings.iterations) else {
+                continue;
+            };
+            if let Some((c, d)) = problem.model(engine, &o.x).as_ref().and_then(profile) {
+                profiled.push((c, o.x, d));
             }
         }
     }
-    // Second stage from the two best seeds by the damping-profiled FRF cost.
-    let mut profiled: Vec<(f64, Vec<f64>, DampingState)> = seeds
-        .iter()
-        .filter_map(|s| {
-            let mm = problem.model(engine, s)?;
-            let (d, r) = fit::fit_damping(&mm, damp, data, mask, 10);
-            let c = fit::mean_sq(&r);
-            c.is_finite().then(|| (c, s.clone(), d))
-        })
-        .collect();
+    // Second stage from the two best points by the damping-profiled FRF cost.
     profiled.sort_by(|a, b| a.0.total_cmp(&b.0));
     profiled.dedup_by(|a, b| a.1 == b.1);
     let mut best: Option<JointFit> = None;
