@@ -386,8 +386,7 @@ fn report_with_localisation_map_and_frf_overlays() {
 
     // The curves are the models': the diagnosed model follows the test
     // (1 % noise), the deck as given does not.
-    let data = frfup::report::diagnosis::prepared(&d, &test).unwrap();
-    let (o, note) = frfup::report::diagnosis::overlay(&d, &deck, &data, &test);
+    let (o, note) = frfup::report::diagnosis::overlay(&d, &deck, &d.data, &test);
     assert!(note.is_none(), "{note:?}");
     assert_eq!(o.series_labels.len(), 4);
     let (given, diagnosed) = (log_misfit(&o.channels, 1), log_misfit(&o.channels, 3));

@@ -145,6 +145,9 @@ pub struct Diagnosis {
     /// Node scores of the first localisation round (best candidate at each node), descending.
     pub localisation: Vec<(u32, f64, String)>,
     pub rejected: Vec<Rejected>,
+    /// The test data as fitted: channels the model places, noise levels,
+    /// weights and resonances (what the report's charts are drawn from).
+    pub data: TestData,
     /// Channels used and ignored.
     pub channels: Vec<String>,
     pub ignored_channels: Vec<String>,
@@ -443,6 +446,7 @@ pub fn diagnose(
         channels: data.channels.iter().map(|c| c.label.clone()).collect(),
         ignored_channels,
         model_evaluations: engine.evaluations.get(),
+        data: data.clone(),
         at_noise_level,
         timings,
     })

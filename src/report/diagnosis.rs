@@ -37,15 +37,8 @@ pub fn render_files(
     deck_name: &str,
     test_name: &str,
 ) -> Result<Vec<(String, Vec<u8>)>, ChartError> {
-    let data = prepared(d, test);
-    let map = localisation_map(d, deck, data.as_ref().ok(), deck_name);
-    let (overlay, frf_note) = match &data {
-        Ok(data) => overlay(d, deck, data, test),
-        Err(e) => (
-            empty_overlay(test),
-            Some(format!("the test data could not be prepared: {e}")),
-        ),
-    };
+    let map = localisation_map(d, deck, deck_name);
+    let (overlay, frf_note) = overlay(d, deck, &d.data, test);
     let loc_svg = localisation::render(&map)?;
     let sheet = frf_overlay::render_contact_sheet(&overlay)?;
     let mut files = vec![
@@ -87,18 +80,6 @@ pub fn render_files(
     Ok(files)
 }
 
-/// The test data as the diagnosis used them: its channels only.
-pub fn prepared(d: &Diagnosis, test: &MeasuredFrfs) -> Result<TestData, DiagnoseError> {
-    let mut data = TestData::new(test)?;
-    let keep: Vec<bool> = data
-        .channels
-        .iter()
-        .map(|c| d.channels.contains(&c.label))
-        .collect();
-    data.retain_channels(&keep);
-    Ok(data)
-}
-
 // ---------------------------------------------------------------------------
 // Localisation map
 
@@ -131,27 +112,20 @@ pub fn map_axes(deck: &Deck) -> (usize, usize) {
 }
 
 /// The map data of `d` on the geometry of `deck`.
-pub fn localisation_map(
-    d: &Diagnosis,
-    deck: &Deck,
-    data: Option<&TestData>,
-    deck_name: &str,
-) -> LocalisationMap {
+pub fn localisation_map(d: &Diagnosis, deck: &Deck, deck_name: &str) -> LocalisationMap {
     let (ax, ay) = map_axes(deck);
     let names = ["x", "y", "z"];
-    let measured: Vec<u32> = data
-        .map(|data| {
-            data.channels
+    let measured: Vec<u32> = d
+        .data
+        .channels
+        .iter()
+        .map(|c| {
+            deck.sensors
                 .iter()
-                .map(|c| {
-                    deck.sensors
-                        .iter()
-                        .find(|s| s.test_node == c.node)
-                        .map_or(c.node, |s| s.node)
-                })
-                .collect()
+                .find(|s| s.test_node == c.node)
+                .map_or(c.node, |s| s.node)
         })
-        .unwrap_or_default();
+        .collect();
     let fixed: Vec<u32> = deck.fixes.iter().map(|f| f.node).collect();
     let nodes: Vec<MapNode> = deck
         .nodes
