@@ -185,10 +185,14 @@ impl ShiftedCholesky {
     }
 }
 
+/// Below this many unknowns [`FillOrdering::Best`] is AMD alone.
+const ND_MIN_DOFS: usize = 2_000;
+
 /// Fill-reducing ordering of the sparse Cholesky factor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum FillOrdering {
-    /// Whichever of the two below gives fewer factor entries.
+    /// Whichever of the two below gives fewer factor entries (AMD alone
+    /// below 2,000 unknowns).
     Best,
     Amd,
     NestedDissection,
@@ -214,10 +218,12 @@ fn fill_reducing_symbolic(
             },
         )
     };
-    if ordering == FillOrdering::Amd {
+    let n = pattern.nrows();
+    // Small models (the static residual of every diagnosis model solution
+    // comes here): AMD alone; a second analysis costs more than it saves.
+    if ordering == FillOrdering::Amd || (ordering == FillOrdering::Best && n < ND_MIN_DOFS) {
         return analyse(SymmetricOrdering::Amd);
     }
-    let n = pattern.nrows();
     let fwd = nested_dissection::order(n, pattern.col_ptr(), pattern.row_idx());
     let mut inv = vec![0usize; n];
     for (i, &f) in fwd.iter().enumerate() {
