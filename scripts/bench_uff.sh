@@ -6,7 +6,11 @@
 #  - ours: `frfup info FILE` (release; the streaming reader), best of RUNS
 #    runs (page cache warm): MB/s on wall time and on CPU time (user+sys, from
 #    wait4 rusage), and peak RSS (ru_maxrss) as a multiple of the decoded
-#    bytes (16 per complex point);
+#    bytes: the values as held in memory (58b single precision is kept as
+#    f32, 8 bytes per complex point; ASCII values are f64, 16 bytes), as
+#    `read_uff` counts them. Also the fixed cost: peak RSS of the same command
+#    on a one-record file of the same kind (code and libraries; measured
+#    with /usr/bin/time, since a child of Python starts with Python's RSS).
 #  - pyuff: `pyuff.UFF(path).read_sets()`, one run, bounded by PYUFF_TIMEOUT
 #    seconds (default 300), wall and CPU;
 #  - the ratios ours/pyuff.
@@ -35,16 +39,22 @@ binary=$dir/campaign_${channels}x${lines}_58b.uff
 if [[ ! -s $ascii || ! -s $binary ]]; then
     ./target/release/examples/gen_campaign "$ascii" "$binary" "$channels" "$lines"
 fi
+tiny_ascii=$dir/tiny_ascii.uff
+tiny_binary=$dir/tiny_58b.uff
+if [[ ! -s $tiny_ascii || ! -s $tiny_binary ]]; then
+    ./target/release/examples/gen_campaign "$tiny_ascii" "$tiny_binary" 1 16 > /dev/null
+fi
 python3 -c "import pyuff" 2>/dev/null || python3 -m pip install --quiet pyuff || true
 
 echo "cores: $(nproc); load: $(cut -d' ' -f1-3 /proc/loadavg); command: ${cmd[*]} FILE"
-python3 - "$runs" "${PYUFF_TIMEOUT:-300}" "$ascii" "$binary" "$root/target/release/examples/read_uff" "${cmd[@]}" <<'PY'
+python3 - "$runs" "${PYUFF_TIMEOUT:-300}" "$ascii" "$binary" "$tiny_ascii" "$tiny_binary" "$root/target/release/examples/read_uff" "${cmd[@]}" <<'PY'
 import os, re, subprocess, sys, time
 
 runs, pyuff_timeout = int(sys.argv[1]), float(sys.argv[2])
 files = {"ascii": sys.argv[3], "58b": sys.argv[4]}
-reader = sys.argv[5]  # prints the decoded bytes
-cmd = sys.argv[6:]
+tiny = {"ascii": sys.argv[5], "58b": sys.argv[6]}
+reader = sys.argv[7]  # prints the decoded bytes
+cmd = sys.argv[8:]
 
 def measured(argv, timeout=None):
     """Whole process: spawn to exit, wall and CPU (user + sys) and peak RSS.
@@ -77,6 +87,15 @@ def decoded_bytes(path):
     m = re.search(r"decoded ([0-9.]+) MB", out)
     return float(m.group(1)) * 1e6 if m else float("nan")
 
+def fixed_rss_kb(path):
+    """Peak RSS (kB) of the command on a one-record file, via /usr/bin/time."""
+    r = subprocess.run(["/usr/bin/time", "-f", "%M"] + cmd + [path],
+                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    try:
+        return float(r.stderr.strip().splitlines()[-1])
+    except (ValueError, IndexError):
+        return float("nan")
+
 PYUFF = "import sys, pyuff; pyuff.UFF(sys.argv[1]).read_sets()"
 rows = []
 for kind, path in files.items():
@@ -90,6 +109,7 @@ for kind, path in files.items():
             sys.exit(f"{kind}: {' '.join(cmd)} {path} failed")
         best_wall, best_cpu = min(best_wall, r[0]), min(best_cpu, r[1])
         rss = max(rss, r[2])
+    fixed = fixed_rss_kb(tiny[kind])
     py = measured([sys.executable, "-c", PYUFF, path], timeout=pyuff_timeout)
     if py is None or py[3] != 0:
         py_wall = py_cpu = float("nan")
@@ -103,6 +123,7 @@ for kind, path in files.items():
         f"(best of {runs}: {best_wall * 1e3:.1f} ms wall, {best_cpu * 1e3:.1f} ms CPU); "
         f"pyuff {py_w:5.1f} MB/s wall, {py_c:5.1f} MB/s CPU {py_note}; "
         f"ratio {ours_w / py_w:5.0f}x wall, {ours_c / py_c:5.0f}x CPU; "
-        f"peak RSS {rss / 1024:.1f} MB = {rss * 1024 / decoded:.2f}x decoded ({decoded / 1e6:.1f} MB)"
+        f"peak RSS {rss * 1024 / 1e6:.1f} MB = {rss * 1024 / decoded:.2f}x decoded ({decoded / 1e6:.1f} MB); "
+        f"fixed cost {fixed * 1024 / 1e6:.1f} MB, beyond it {(rss - fixed) * 1024 / decoded:.2f}x decoded"
     )
 PY

@@ -9,7 +9,7 @@
 
 use std::time::Instant;
 
-use frfup_parsers::uff::{self, Dataset, Ordinate};
+use frfup_parsers::uff::{self, Dataset};
 
 /// Bytes of decoded data: 8 per real value, 16 per complex point, 8 per
 /// uneven abscissa value.
@@ -19,10 +19,7 @@ fn decoded_bytes(file: &uff::UffFile) -> (usize, usize, usize) {
         if let Dataset::Function(f) = d {
             functions += 1;
             points += f.len();
-            decoded += match &f.ordinate {
-                Ordinate::Real(v) => v.len() * 8,
-                Ordinate::Complex(v) => v.len() * 16,
-            };
+            decoded += f.ordinate.value_bytes();
             if let uff::Abscissa::Uneven(x) = &f.abscissa {
                 decoded += x.len() * 8;
             }

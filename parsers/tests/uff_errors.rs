@@ -1,7 +1,7 @@
 //! Bad input gives an `UffError` naming line (or byte offset), dataset index
 //! and number, and what was expected; real-world quirks are read.
 
-use frfup_parsers::uff::{self, Dataset, Ordinate, UffError};
+use frfup_parsers::uff::{self, Dataset, UffError};
 
 const HEADER: &str = "    -1
     58
@@ -55,10 +55,16 @@ fn error(bytes: &[u8]) -> UffError {
 fn real(bytes: &[u8]) -> Vec<f64> {
     let file = read(bytes).unwrap_or_else(|e| panic!("{e}"));
     match &file.datasets[0] {
-        Dataset::Function(f) => match &f.ordinate {
-            Ordinate::Real(v) => v.clone(),
-            Ordinate::Complex(v) => v.iter().flat_map(|&(a, b)| [a, b]).collect(),
-        },
+        Dataset::Function(f) => (0..f.len())
+            .flat_map(|i| {
+                let (re, im) = f.ordinate.at(i);
+                if f.ordinate.is_complex() {
+                    vec![re, im]
+                } else {
+                    vec![re]
+                }
+            })
+            .collect(),
         Dataset::Other(_) => panic!("58 expected"),
     }
 }

@@ -212,28 +212,31 @@ fn assert_same(want: &Function58, got: &Function58) {
             .for_each(|(p, q)| assert!(close(stored(*p, want), *q, x_tol), "{what}: x {p} vs {q}")),
         _ => panic!("{what}: spacing differs"),
     }
-    match (&want.ordinate, &got.ordinate) {
-        (Ordinate::Real(a), Ordinate::Real(b)) => a.iter().zip(b).for_each(|(p, q)| {
-            let p = stored(*p, want);
-            assert!(
-                if want.binary {
-                    p.to_bits() == q.to_bits()
-                } else {
-                    close(p, *q, y_tol)
-                },
-                "{what}: {p} vs {q}"
-            )
-        }),
-        (Ordinate::Complex(a), Ordinate::Complex(b)) => a.iter().zip(b).for_each(|(p, q)| {
-            let p = (stored(p.0, want), stored(p.1, want));
-            let same = if want.binary {
-                p.0.to_bits() == q.0.to_bits() && p.1.to_bits() == q.1.to_bits()
-            } else {
-                close(p.0, q.0, y_tol) && close(p.1, q.1, y_tol)
-            };
-            assert!(same, "{what}: {p:?} vs {q:?}")
-        }),
-        _ => panic!("{what}: ordinate kind differs"),
+    assert_eq!(
+        want.ordinate.is_complex(),
+        got.ordinate.is_complex(),
+        "{what}: ordinate kind differs"
+    );
+    assert_eq!(want.len(), got.len(), "{what}: points differ");
+    // 58b single precision is kept as f32, exactly as stored.
+    let single_kept = got.binary && matches!(got.ordinate_type, 2 | 5);
+    assert_eq!(
+        matches!(
+            got.ordinate,
+            Ordinate::RealSingle(_) | Ordinate::ComplexSingle(_)
+        ),
+        single_kept,
+        "{what}: storage precision"
+    );
+    for i in 0..want.len() {
+        let (p, q) = (want.ordinate.at(i), got.ordinate.at(i));
+        let p = (stored(p.0, want), stored(p.1, want));
+        let same = if want.binary {
+            p.0.to_bits() == q.0.to_bits() && p.1.to_bits() == q.1.to_bits()
+        } else {
+            close(p.0, q.0, y_tol) && close(p.1, q.1, y_tol)
+        };
+        assert!(same, "{what}: point {i}: {p:?} vs {q:?}")
     }
 }
 
@@ -421,9 +424,11 @@ fn pyuff_reads_our_file() {
             );
         }
         for (i, y) in ys.iter().enumerate() {
-            let want: Vec<f64> = match &f.ordinate {
-                Ordinate::Real(v) => vec![stored(v[i], f)],
-                Ordinate::Complex(v) => vec![stored(v[i].0, f), stored(v[i].1, f)],
+            let (re, im) = f.ordinate.at(i);
+            let want: Vec<f64> = if f.ordinate.is_complex() {
+                vec![stored(re, f), stored(im, f)]
+            } else {
+                vec![stored(re, f)]
             };
             let got: Vec<f64> = match y {
                 Value::Array(a) => a.iter().map(number).collect(),

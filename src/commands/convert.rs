@@ -297,12 +297,11 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
             crate::testdata::dof_label(f.response_node, f.response_direction),
             crate::testdata::dof_label(f.reference_node, f.reference_direction)
         );
-        match f.ordinate {
-            Ordinate::Real(_) => header.push(label),
-            Ordinate::Complex(_) => {
-                header.push(format!("{label} re"));
-                header.push(format!("{label} im"));
-            }
+        if f.ordinate.is_complex() {
+            header.push(format!("{label} re"));
+            header.push(format!("{label} im"));
+        } else {
+            header.push(label);
         }
     }
     w.write_record(&header).map_err(|e| e.to_string())?;
@@ -311,12 +310,10 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
         row.clear();
         row.push(format!("{:e}", first.abscissa_at(k)));
         for f in records {
-            match &f.ordinate {
-                Ordinate::Real(v) => row.push(format!("{:e}", v[k])),
-                Ordinate::Complex(v) => {
-                    row.push(format!("{:e}", v[k].0));
-                    row.push(format!("{:e}", v[k].1));
-                }
+            let (re, im) = f.ordinate.at(k);
+            row.push(format!("{re:e}"));
+            if f.ordinate.is_complex() {
+                row.push(format!("{im:e}"));
             }
         }
         w.write_record(&row).map_err(|e| e.to_string())?;

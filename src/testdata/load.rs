@@ -4,9 +4,7 @@ use std::path::{Path, PathBuf};
 
 use faer::c64;
 use frfup_parsers::uff::units::{ordinate_si_factor, units_label_si_factor, Units164};
-use frfup_parsers::uff::{
-    Dataset, Function58, Ordinate, OtherDataset, OtherKind, UffError, UffFile,
-};
+use frfup_parsers::uff::{Dataset, Function58, OtherDataset, OtherKind, UffError, UffFile};
 
 use super::{Channel, FrfKind, MeasuredFrfs};
 
@@ -174,13 +172,12 @@ pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataErr
                 kind.name()
             )));
         }
-        let values = match &f.ordinate {
-            Ordinate::Real(v) => v.iter().map(|&re| c64::new(re * factor, 0.0)).collect(),
-            Ordinate::Complex(v) => v
-                .iter()
-                .map(|&(re, im)| c64::new(re * factor, im * factor))
-                .collect(),
-        };
+        let values = (0..f.len())
+            .map(|i| {
+                let (re, im) = f.ordinate.at(i);
+                c64::new(re * factor, im * factor)
+            })
+            .collect();
         channels.push(Channel {
             response_node: f.response_node,
             response_direction: f.response_direction,

@@ -302,11 +302,10 @@ pub(crate) fn parse(
         .try_into()
         .map_err(|_| at(10, "records 8-11 missing".into()))?;
 
-    let sink = match &block.binary {
+    let (abscissa, ordinate) = match &block.binary {
         Some(b) => binary_data(bytes, b, &r7, &cx)?,
-        None => ascii_data(&mut lines, &r7, &cx, notes)?,
+        None => ascii_data(&mut lines, &r7, &cx, notes)?.finish(&r7),
     };
-    let (abscissa, ordinate) = sink.finish(&r7);
     Ok(Function58 {
         id_lines,
         function_type: r6.function_type,
@@ -574,67 +573,91 @@ fn split_values(region: &[u8], widths: &[usize], expected: usize) -> Option<[Vec
     (a.len() + b.len() == expected).then_some([a, b])
 }
 
-/// One stored binary value: size and byte order.
+/// One stored binary value: its type, size and byte order.
 trait Raw {
+    /// The stored type (`f32` or `f64`), kept as is in the record.
+    type Value: Copy + Into<f64>;
     const SIZE: usize;
-    fn get(c: &[u8]) -> f64;
+    fn get(c: &[u8]) -> Self::Value;
+    /// Real and complex ordinates of this precision.
+    fn real(v: Vec<Self::Value>) -> Ordinate;
+    fn complex(v: Vec<(Self::Value, Self::Value)>) -> Ordinate;
 }
 
 macro_rules! raw {
-    ($name:ident, $t:ty, $size:expr, $from:ident) => {
+    ($name:ident, $t:ty, $size:expr, $from:ident, $real:ident, $complex:ident) => {
         struct $name;
         impl Raw for $name {
+            type Value = $t;
             const SIZE: usize = $size;
             #[inline(always)]
-            fn get(c: &[u8]) -> f64 {
+            fn get(c: &[u8]) -> $t {
                 let mut a = [0u8; $size];
                 a.copy_from_slice(&c[..$size]);
-                <$t>::$from(a) as f64
+                <$t>::$from(a)
+            }
+            fn real(v: Vec<$t>) -> Ordinate {
+                Ordinate::$real(v)
+            }
+            fn complex(v: Vec<($t, $t)>) -> Ordinate {
+                Ordinate::$complex(v)
             }
         }
     };
 }
-raw!(F32Le, f32, 4, from_le_bytes);
-raw!(F32Be, f32, 4, from_be_bytes);
-raw!(F64Le, f64, 8, from_le_bytes);
-raw!(F64Be, f64, 8, from_be_bytes);
+raw!(F32Le, f32, 4, from_le_bytes, RealSingle, ComplexSingle);
+raw!(F32Be, f32, 4, from_be_bytes, RealSingle, ComplexSingle);
+raw!(F64Le, f64, 8, from_le_bytes, Real, Complex);
+raw!(F64Be, f64, 8, from_be_bytes, Real, Complex);
 
-fn even_real<R: Raw>(data: &[u8]) -> Vec<f64> {
-    data.chunks_exact(R::SIZE).map(R::get).collect()
-}
-
-fn even_complex<R: Raw>(data: &[u8]) -> Vec<(f64, f64)> {
-    data.chunks_exact(2 * R::SIZE)
-        .map(|c| (R::get(c), R::get(&c[R::SIZE..])))
-        .collect()
-}
-
-fn uneven<X: Raw, R: Raw>(data: &[u8], complex: bool, sink: &mut Sink) {
-    let per_point = X::SIZE + R::SIZE * (1 + usize::from(complex));
-    let n = data.len() / per_point;
-    sink.x = Vec::with_capacity(n);
+/// Even abscissa: the data are the ordinate values, one after the other.
+fn even<R: Raw>(data: &[u8], complex: bool) -> Ordinate {
     if complex {
-        sink.pairs = Vec::with_capacity(n);
-        for c in data.chunks_exact(per_point) {
-            sink.x.push(X::get(c));
-            sink.pairs
-                .push((R::get(&c[X::SIZE..]), R::get(&c[X::SIZE + R::SIZE..])));
-        }
+        R::complex(
+            data.chunks_exact(2 * R::SIZE)
+                .map(|c| (R::get(c), R::get(&c[R::SIZE..])))
+                .collect(),
+        )
     } else {
-        sink.real = Vec::with_capacity(n);
-        for c in data.chunks_exact(per_point) {
-            sink.x.push(X::get(c));
-            sink.real.push(R::get(&c[X::SIZE..]));
-        }
+        R::real(data.chunks_exact(R::SIZE).map(R::get).collect())
     }
 }
 
-fn decode<R: Raw, X: Raw>(data: &[u8], r7: &Record7, abscissa_bytes: usize, sink: &mut Sink) {
+/// Uneven abscissa: each point is its abscissa (type `X`, kept as `f64`)
+/// followed by its ordinate value(s).
+fn uneven<X: Raw, R: Raw>(data: &[u8], complex: bool) -> (Abscissa, Ordinate) {
+    let per_point = X::SIZE + R::SIZE * (1 + usize::from(complex));
+    let points = data.chunks_exact(per_point);
+    let x = points.clone().map(|c| X::get(c).into()).collect();
+    let ordinate = if complex {
+        R::complex(
+            points
+                .map(|c| (R::get(&c[X::SIZE..]), R::get(&c[X::SIZE + R::SIZE..])))
+                .collect(),
+        )
+    } else {
+        R::real(points.map(|c| R::get(&c[X::SIZE..])).collect())
+    };
+    (Abscissa::Uneven(x), ordinate)
+}
+
+/// Abscissa and ordinate of a 58b data block whose values are `R` (and an
+/// uneven abscissa `abscissa_bytes` wide: `R`, or `X` when narrower).
+fn decode<R: Raw, X: Raw>(
+    data: &[u8],
+    r7: &Record7,
+    abscissa_bytes: usize,
+) -> (Abscissa, Ordinate) {
     match (r7.even, r7.is_complex()) {
-        (true, false) => sink.real = even_real::<R>(data),
-        (true, true) => sink.pairs = even_complex::<R>(data),
-        (false, c) if abscissa_bytes == R::SIZE => uneven::<R, R>(data, c, sink),
-        (false, c) => uneven::<X, R>(data, c, sink),
+        (true, c) => (
+            Abscissa::Even {
+                start: r7.start,
+                step: r7.step,
+            },
+            even::<R>(data, c),
+        ),
+        (false, c) if abscissa_bytes == R::SIZE => uneven::<R, R>(data, c),
+        (false, c) => uneven::<X, R>(data, c),
     }
 }
 
@@ -668,40 +691,39 @@ fn raw_all_finite(data: &[u8], size: usize, little_endian: bool) -> bool {
     }
 }
 
-/// Reads the binary data of a 58b block.
-fn binary_data(bytes: &[u8], b: &Binary, r7: &Record7, cx: &Context<'_>) -> Result<Sink, UffError> {
+/// Reads the binary data of a 58b block: abscissa and ordinate, values of
+/// single precision kept as `f32`.
+fn binary_data(
+    bytes: &[u8],
+    b: &Binary,
+    r7: &Record7,
+    cx: &Context<'_>,
+) -> Result<(Abscissa, Ordinate), UffError> {
     let data = &bytes[b.data.clone()];
     let n = r7.points;
-    let mut sink = Sink::new(r7, 0);
-    match (r7.value_bytes(), b.little_endian) {
-        (4, true) => decode::<F32Le, F32Le>(data, r7, b.abscissa_bytes, &mut sink),
-        (4, false) => decode::<F32Be, F32Be>(data, r7, b.abscissa_bytes, &mut sink),
-        (_, true) => decode::<F64Le, F32Le>(data, r7, b.abscissa_bytes, &mut sink),
-        (_, false) => decode::<F64Be, F32Be>(data, r7, b.abscissa_bytes, &mut sink),
-    }
+    let (abscissa, ordinate) = match (r7.value_bytes(), b.little_endian) {
+        (4, true) => decode::<F32Le, F32Le>(data, r7, b.abscissa_bytes),
+        (4, false) => decode::<F32Be, F32Be>(data, r7, b.abscissa_bytes),
+        (_, true) => decode::<F64Le, F32Le>(data, r7, b.abscissa_bytes),
+        (_, false) => decode::<F64Be, F32Be>(data, r7, b.abscissa_bytes),
+    };
     if (r7.even || b.abscissa_bytes == r7.value_bytes())
         && raw_all_finite(data, r7.value_bytes(), b.little_endian)
     {
-        return Ok(sink);
+        return Ok((abscissa, ordinate));
     }
-    let bad = text::first_non_finite(&sink.x)
+    let x: &[f64] = match &abscissa {
+        Abscissa::Uneven(x) => x,
+        Abscissa::Even { .. } => &[],
+    };
+    let bad = text::first_non_finite(x)
         .map(|(i, v)| (i, v, "abscissa"))
-        .or_else(|| text::first_non_finite(&sink.real).map(|(i, v)| (i, v, "ordinate")))
         .or_else(|| {
-            sink.pairs
-                .iter()
-                .position(|(re, im)| !re.is_finite() || !im.is_finite())
-                .map(|i| {
-                    (
-                        i,
-                        if sink.pairs[i].0.is_finite() {
-                            sink.pairs[i].1
-                        } else {
-                            sink.pairs[i].0
-                        },
-                        "ordinate",
-                    )
-                })
+            (0..ordinate.len()).find_map(|i| {
+                let (re, im) = ordinate.at(i);
+                let v = if re.is_finite() { im } else { re };
+                (!v.is_finite()).then_some((i, v, "ordinate"))
+            })
         });
     if let Some((i, v, what)) = bad {
         let point_bytes = data.len() / n.max(1);
@@ -714,7 +736,7 @@ fn binary_data(bytes: &[u8], b: &Binary, r7: &Record7, cx: &Context<'_>) -> Resu
             ),
         ));
     }
-    Ok(sink)
+    Ok((abscissa, ordinate))
 }
 
 #[cfg(test)]

@@ -69,12 +69,72 @@ pub enum Abscissa {
 }
 
 /// CONTRACT. Ordinate data, in file order.
+///
+/// Single-precision values read from 58b are kept as `f32`, exactly as the
+/// file stores them (half the memory of widening them); everything else
+/// (ASCII text, double-precision data, values computed by programs) is
+/// `f64`. [`Ordinate::at`] reads any variant as `f64`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Ordinate {
     /// Ordinate type 2 (single) or 4 (double).
     Real(Vec<f64>),
     /// Ordinate type 5 (single) or 6 (double): (re, im) pairs.
     Complex(Vec<(f64, f64)>),
+    /// Ordinate type 2 from 58b binary: the stored single-precision values.
+    RealSingle(Vec<f32>),
+    /// Ordinate type 5 from 58b binary: the stored single-precision pairs.
+    ComplexSingle(Vec<(f32, f32)>),
+}
+
+impl Ordinate {
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        match self {
+            Ordinate::Real(v) => v.len(),
+            Ordinate::Complex(v) => v.len(),
+            Ordinate::RealSingle(v) => v.len(),
+            Ordinate::ComplexSingle(v) => v.len(),
+        }
+    }
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Whether the points are (re, im) pairs.
+    pub fn is_complex(&self) -> bool {
+        matches!(self, Ordinate::Complex(_) | Ordinate::ComplexSingle(_))
+    }
+    /// Point `i` as (re, im) in double precision (im = 0 for real data).
+    /// Panics if `i >= self.len()`.
+    #[inline]
+    pub fn at(&self, i: usize) -> (f64, f64) {
+        match self {
+            Ordinate::Real(v) => (v[i], 0.0),
+            Ordinate::Complex(v) => v[i],
+            Ordinate::RealSingle(v) => (f64::from(v[i]), 0.0),
+            Ordinate::ComplexSingle(v) => (f64::from(v[i].0), f64::from(v[i].1)),
+        }
+    }
+    /// Bytes the values occupy in memory.
+    pub fn value_bytes(&self) -> usize {
+        match self {
+            Ordinate::Real(v) => v.len() * 8,
+            Ordinate::Complex(v) => v.len() * 16,
+            Ordinate::RealSingle(v) => v.len() * 4,
+            Ordinate::ComplexSingle(v) => v.len() * 8,
+        }
+    }
+    /// The same values in double precision (exact: every `f32` is an `f64`).
+    pub fn to_double(&self) -> Ordinate {
+        match self {
+            Ordinate::RealSingle(v) => Ordinate::Real(v.iter().map(|&x| f64::from(x)).collect()),
+            Ordinate::ComplexSingle(v) => Ordinate::Complex(
+                v.iter()
+                    .map(|&(re, im)| (f64::from(re), f64::from(im)))
+                    .collect(),
+            ),
+            other => other.clone(),
+        }
+    }
 }
 
 /// CONTRACT. Records 8–11 of dataset 58: data characteristics of one axis.
@@ -124,10 +184,7 @@ pub struct Function58 {
 impl Function58 {
     /// CONTRACT. Number of points.
     pub fn len(&self) -> usize {
-        match &self.ordinate {
-            Ordinate::Real(v) => v.len(),
-            Ordinate::Complex(v) => v.len(),
-        }
+        self.ordinate.len()
     }
     pub fn is_empty(&self) -> bool {
         self.len() == 0

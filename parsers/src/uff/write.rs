@@ -11,7 +11,7 @@
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
-use super::{Abscissa, AxisCharacteristics, Function58, Ordinate};
+use super::{Abscissa, AxisCharacteristics, Function58};
 
 /// Byte order of 58b data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -127,23 +127,23 @@ fn axis_record(out: &mut String, a: &AxisCharacteristics, which: &str) -> io::Re
 /// Checks that the ordinate type, ordinate and abscissa agree and are finite.
 fn check(f: &Function58) -> io::Result<()> {
     let n = f.len();
-    match (&f.ordinate, f.ordinate_type) {
-        (Ordinate::Real(_), 2 | 4) | (Ordinate::Complex(_), 5 | 6) => {}
-        (Ordinate::Real(_), t) => {
+    match (f.ordinate.is_complex(), f.ordinate_type) {
+        (false, 2 | 4) | (true, 5 | 6) => {}
+        (false, t) => {
             return Err(invalid(format!(
                 "real ordinate needs ordinate type 2 or 4, not {t}"
             )))
         }
-        (Ordinate::Complex(_), t) => {
+        (true, t) => {
             return Err(invalid(format!(
                 "complex ordinate needs ordinate type 5 or 6, not {t}"
             )))
         }
     }
-    let finite = match &f.ordinate {
-        Ordinate::Real(v) => v.iter().all(|x| x.is_finite()),
-        Ordinate::Complex(v) => v.iter().all(|(re, im)| re.is_finite() && im.is_finite()),
-    };
+    let finite = (0..n).all(|i| {
+        let (re, im) = f.ordinate.at(i);
+        re.is_finite() && im.is_finite()
+    });
     if !finite {
         return Err(invalid(
             "ordinate holds a non-finite value (NaN or infinity)".into(),
@@ -219,23 +219,15 @@ fn for_each_value(f: &Function58, mut each: impl FnMut(f64)) {
         Abscissa::Uneven(x) => Some(x),
         Abscissa::Even { .. } => None,
     };
-    match &f.ordinate {
-        Ordinate::Real(v) => {
-            for (i, &y) in v.iter().enumerate() {
-                if let Some(x) = x {
-                    each(x[i]);
-                }
-                each(y);
-            }
+    let complex = f.ordinate.is_complex();
+    for i in 0..f.len() {
+        if let Some(x) = x {
+            each(x[i]);
         }
-        Ordinate::Complex(v) => {
-            for (i, &(re, im)) in v.iter().enumerate() {
-                if let Some(x) = x {
-                    each(x[i]);
-                }
-                each(re);
-                each(im);
-            }
+        let (re, im) = f.ordinate.at(i);
+        each(re);
+        if complex {
+            each(im);
         }
     }
 }
@@ -302,12 +294,9 @@ fn binary_len(f: &Function58) -> usize {
     } else {
         8
     };
-    let per_point = match (&f.ordinate, &f.abscissa) {
-        (Ordinate::Real(_), Abscissa::Even { .. }) => 1,
-        (Ordinate::Complex(_), Abscissa::Even { .. })
-        | (Ordinate::Real(_), Abscissa::Uneven(_)) => 2,
-        (Ordinate::Complex(_), Abscissa::Uneven(_)) => 3,
-    };
+    let per_point = 1
+        + usize::from(f.ordinate.is_complex())
+        + usize::from(matches!(f.abscissa, Abscissa::Uneven(_)));
     f.len() * per_point * value
 }
 
