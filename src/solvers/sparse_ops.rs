@@ -54,18 +54,6 @@ pub(crate) fn diagonal(a: &SparseMatrix) -> Vec<f64> {
     d
 }
 
-/// Dense copy of a sparse matrix (duplicates summed).
-pub(crate) fn to_dense(a: &SparseMatrix) -> Mat<f64> {
-    let mut out = Mat::<f64>::zeros(a.nrows(), a.ncols());
-    let sym = a.symbolic();
-    for j in 0..a.ncols() {
-        for (&i, &v) in sym.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            out[(i, j)] += v;
-        }
-    }
-    out
-}
-
 /// A · X for sparse A and dense X.
 pub(crate) fn sp_mul(a: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
     let mut y = Mat::<f64>::zeros(a.nrows(), x.ncols());
