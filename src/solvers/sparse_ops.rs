@@ -61,19 +61,6 @@ pub(crate) fn sp_mul(a: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
     y
 }
 
-/// Column-wise inner products diag(Xᵀ Y).
-pub(crate) fn col_dots(x: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Vec<f64> {
-    (0..x.ncols())
-        .map(|j| {
-            x.col(j)
-                .iter()
-                .zip(y.col(j).iter())
-                .map(|(a, b)| a * b)
-                .sum()
-        })
-        .collect()
-}
-
 /// The union sparsity pattern of K and M, with where each of their entries
 /// lands, so that αK + βM (real or complex) is assembled without searching.
 pub(crate) struct PairPattern {
