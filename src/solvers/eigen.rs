@@ -310,7 +310,10 @@ fn finish(
     let mut omega2 = vec![0.0; count];
     let mut residuals = vec![0.0; count];
     let threads = sparse_ops::par().degree().max(1);
-    let per_thread = count.div_ceil(threads).next_multiple_of(MODE_BLOCK);
+    let per_thread = count
+        .div_ceil(threads)
+        .next_multiple_of(MODE_BLOCK)
+        .max(MODE_BLOCK);
     std::thread::scope(|scope| {
         let mut rest = phi.as_mut();
         let chunks = omega2
