@@ -11,6 +11,7 @@
 pub mod dense;
 pub mod lanczos;
 
+use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::Mat;
 
 use crate::model::SparseMatrix;
@@ -295,6 +296,9 @@ pub fn lowest_modes_with(
 
 /// Mass-normalises Φ, sets ω² to the Rayleigh quotients, sorts ascending, and
 /// records the largest residual ‖Kφ − ω²Mφ‖ / (s_max ‖Mφ‖).
+///
+/// The columns are split between the threads of [`sparse_ops::par`], each
+/// working through blocks of [`MODE_BLOCK`] modes (see [`ModeBlock`]).
 fn finish(
     k: &SparseMatrix,
     m: &SparseMatrix,
@@ -302,32 +306,139 @@ fn finish(
     scale: &PencilScale,
     report: &mut EigenReport,
 ) -> Modes {
-    let mphi = sparse_ops::sp_mul(m, phi.as_ref());
-    let norms = sparse_ops::col_dots(phi.as_ref(), mphi.as_ref());
-    let mut mphi = mphi;
-    for (j, nj) in norms.iter().enumerate() {
-        let f = 1.0 / nj.max(f64::MIN_POSITIVE).sqrt();
-        phi.col_mut(j).iter_mut().for_each(|v| *v *= f);
-        mphi.col_mut(j).iter_mut().for_each(|v| *v *= f);
-    }
-    let kphi = sparse_ops::sp_mul(k, phi.as_ref());
-    let omega2 = sparse_ops::col_dots(phi.as_ref(), kphi.as_ref());
-    let mut max_residual = 0.0f64;
-    for (j, w2) in omega2.iter().enumerate() {
-        let (mut r2, mut m2) = (0.0, 0.0);
-        for (kv, mv) in kphi.col(j).iter().zip(mphi.col(j).iter()) {
-            r2 += (kv - w2 * mv).powi(2);
-            m2 += mv * mv;
+    let count = phi.ncols();
+    let mut omega2 = vec![0.0; count];
+    let mut residuals = vec![0.0; count];
+    let threads = sparse_ops::par().degree().max(1);
+    let per_thread = count
+        .div_ceil(threads)
+        .next_multiple_of(MODE_BLOCK)
+        .max(MODE_BLOCK);
+    std::thread::scope(|scope| {
+        let mut rest = phi.as_mut();
+        let chunks = omega2
+            .chunks_mut(per_thread)
+            .zip(residuals.chunks_mut(per_thread));
+        for (w2, res) in chunks {
+            let (mine, others) = rest.split_at_col_mut(w2.len());
+            rest = others;
+            scope.spawn(move || {
+                let mut block = ModeBlock::new(mine.nrows());
+                let mut mine = mine;
+                let pieces = w2.chunks_mut(MODE_BLOCK).zip(res.chunks_mut(MODE_BLOCK));
+                for (b, (w2, res)) in pieces.enumerate() {
+                    let cols = mine.rb_mut().subcols_mut(b * MODE_BLOCK, w2.len());
+                    block.normalise(k, m, cols, w2, res, scale.max_ratio);
+                }
+            });
         }
-        max_residual =
-            max_residual.max(r2.sqrt() / (scale.max_ratio * m2.sqrt().max(f64::MIN_POSITIVE)));
+    });
+    report.max_residual = residuals.iter().copied().fold(0.0, f64::max);
+    if omega2.is_sorted_by(|a, b| a.total_cmp(b).is_le()) {
+        return Modes {
+            omega2,
+            shapes: phi,
+        };
     }
-    report.max_residual = max_residual;
     let mut order: Vec<usize> = (0..omega2.len()).collect();
     order.sort_by(|a, b| omega2[*a].total_cmp(&omega2[*b]));
     let shapes = Mat::from_fn(phi.nrows(), order.len(), |i, j| phi[(i, order[j])]);
     Modes {
         omega2: order.iter().map(|&j| omega2[j]).collect(),
         shapes,
+    }
+}
+
+/// Modes per block of [`finish`]: K and M are read once per block, and the
+/// products with a block vectorise across its modes.
+const MODE_BLOCK: usize = 8;
+
+/// Up to [`MODE_BLOCK`] mode shapes interleaved by DOF (x[i·B + c] = φ_c[i]),
+/// with their products with M and K.
+struct ModeBlock {
+    x: Vec<f64>,
+    mx: Vec<f64>,
+    kx: Vec<f64>,
+}
+
+impl ModeBlock {
+    fn new(n: usize) -> Self {
+        let zeros = || vec![0.0; n * MODE_BLOCK];
+        ModeBlock {
+            x: zeros(),
+            mx: zeros(),
+            kx: zeros(),
+        }
+    }
+
+    /// Scales the columns of `phi` to φᵀMφ = 1 and stores their Rayleigh
+    /// quotients ω² = φᵀKφ and residuals ‖Kφ − ω²Mφ‖ / (s_max ‖Mφ‖).
+    fn normalise(
+        &mut self,
+        k: &SparseMatrix,
+        m: &SparseMatrix,
+        mut phi: faer::MatMut<'_, f64>,
+        omega2: &mut [f64],
+        residuals: &mut [f64],
+        max_ratio: f64,
+    ) {
+        let width = phi.ncols();
+        self.x.fill(0.0);
+        for c in 0..width {
+            for (i, v) in phi.rb().col(c).iter().enumerate() {
+                self.x[i * MODE_BLOCK + c] = *v;
+            }
+        }
+        apply(m, &self.x, &mut self.mx);
+        apply(k, &self.x, &mut self.kx);
+        let rows = || {
+            self.x
+                .chunks_exact(MODE_BLOCK)
+                .zip(self.mx.chunks_exact(MODE_BLOCK))
+                .zip(self.kx.chunks_exact(MODE_BLOCK))
+        };
+        let mut norms = [0.0; MODE_BLOCK];
+        for ((x, mx), _) in rows() {
+            for c in 0..MODE_BLOCK {
+                norms[c] += x[c] * mx[c];
+            }
+        }
+        let factors = norms.map(|nc: f64| 1.0 / nc.max(f64::MIN_POSITIVE).sqrt());
+        let mut w2 = [0.0; MODE_BLOCK];
+        for ((x, _), kx) in rows() {
+            for c in 0..MODE_BLOCK {
+                w2[c] += (x[c] * factors[c]) * (kx[c] * factors[c]);
+            }
+        }
+        let (mut r2, mut m2) = ([0.0; MODE_BLOCK], [0.0; MODE_BLOCK]);
+        for ((_, mx), kx) in rows() {
+            for c in 0..MODE_BLOCK {
+                let (mv, kv) = (mx[c] * factors[c], kx[c] * factors[c]);
+                r2[c] += (kv - w2[c] * mv).powi(2);
+                m2[c] += mv * mv;
+            }
+        }
+        for c in 0..width {
+            phi.rb_mut()
+                .col_mut(c)
+                .iter_mut()
+                .for_each(|v| *v *= factors[c]);
+            omega2[c] = w2[c];
+            residuals[c] = r2[c].sqrt() / (max_ratio * m2[c].sqrt().max(f64::MIN_POSITIVE));
+        }
+    }
+}
+
+/// y = A x for a block of [`MODE_BLOCK`] vectors interleaved by row.
+fn apply(a: &SparseMatrix, x: &[f64], y: &mut [f64]) {
+    y.fill(0.0);
+    let sym = a.symbolic();
+    for (j, xj) in x.chunks_exact(MODE_BLOCK).enumerate() {
+        for (&i, &v) in sym.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            let yi = &mut y[i * MODE_BLOCK..(i + 1) * MODE_BLOCK];
+            for (yc, xc) in yi.iter_mut().zip(xj) {
+                *yc += v * xc;
+            }
+        }
     }
 }

@@ -54,36 +54,11 @@ pub(crate) fn diagonal(a: &SparseMatrix) -> Vec<f64> {
     d
 }
 
-/// Dense copy of a sparse matrix (duplicates summed).
-pub(crate) fn to_dense(a: &SparseMatrix) -> Mat<f64> {
-    let mut out = Mat::<f64>::zeros(a.nrows(), a.ncols());
-    let sym = a.symbolic();
-    for j in 0..a.ncols() {
-        for (&i, &v) in sym.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-            out[(i, j)] += v;
-        }
-    }
-    out
-}
-
 /// A · X for sparse A and dense X.
 pub(crate) fn sp_mul(a: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
     let mut y = Mat::<f64>::zeros(a.nrows(), x.ncols());
     sparse_dense_matmul(y.as_mut(), Accum::Replace, a.as_ref(), x, 1.0, par_iter());
     y
-}
-
-/// Column-wise inner products diag(Xᵀ Y).
-pub(crate) fn col_dots(x: MatRef<'_, f64>, y: MatRef<'_, f64>) -> Vec<f64> {
-    (0..x.ncols())
-        .map(|j| {
-            x.col(j)
-                .iter()
-                .zip(y.col(j).iter())
-                .map(|(a, b)| a * b)
-                .sum()
-        })
-        .collect()
 }
 
 /// The union sparsity pattern of K and M, with where each of their entries
