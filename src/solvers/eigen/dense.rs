@@ -56,6 +56,10 @@ use crate::solvers::sparse_ops::par;
 /// products, small next to the envelope width of lattice models.
 const BLOCK: usize = 64;
 
+/// Models smaller than this are solved on one thread: for the 336-DOF GARTEUR
+/// model, waking the pool's threads for each block cost more than it saved.
+const SEQUENTIAL_BELOW: usize = 600;
+
 /// Tries σ, 100σ, 10⁴σ, … until K − σM is numerically positive definite.
 /// Returns the `count` lowest (unnormalised) mode shapes, lowest first, and
 /// the σ used.
@@ -73,7 +77,11 @@ pub fn shift_invert(
         }
     };
     let envelope = Envelope::of(k, m);
-    let par = par();
+    let par = if k.nrows() < SEQUENTIAL_BELOW {
+        Par::Seq
+    } else {
+        par()
+    };
     let mut sigma = shift;
     let mut factor = None;
     for _ in 0..6 {
