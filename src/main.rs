@@ -580,27 +580,6 @@ fn check_thresholds(
     }
 }
 
-/// One malloc heap for all threads (glibc), for the commands that only read
-/// and write UFF. By default each thread that allocates gets its own heap,
-/// and on kernels with transparent huge pages always on, each heap's first
-/// 2 MB page is mostly empty: reading a 58b file (records parsed by two
-/// workers) peaked 2.2 MB higher than with one heap, at no measurable speed
-/// difference. The solvers' thread pool keeps its own heaps.
-#[cfg(all(target_os = "linux", target_env = "gnu"))]
-fn one_malloc_heap() {
-    const M_ARENA_MAX: i32 = -8;
-    unsafe extern "C" {
-        fn mallopt(param: i32, value: i32) -> i32;
-    }
-    // SAFETY: glibc's mallopt, called before any other thread exists.
-    unsafe {
-        mallopt(M_ARENA_MAX, 1);
-    }
-}
-
-#[cfg(not(all(target_os = "linux", target_env = "gnu")))]
-fn one_malloc_heap() {}
-
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
@@ -610,10 +589,6 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    if matches!(cli.command, Command::Info { .. } | Command::Convert { .. }) {
-        // No other thread exists yet.
-        one_malloc_heap();
-    }
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {

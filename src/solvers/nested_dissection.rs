@@ -109,9 +109,11 @@ fn pick_separator(levels: &[Vec<usize>], total: usize) -> Option<usize> {
 
 /// Level structure of the component of G[set] containing a pseudo-peripheral
 /// vertex (a few sweeps: root at a minimum-degree vertex of the previous
-/// search's last level while the depth grows). Leaves `level` set for the
-/// reached vertices of the final search.
-fn peripheral_levels<'g>(
+/// search's last level while the depth grows); the root is `levels[0][0]`.
+/// G[set] is the vertices labelled `lab`. Leaves `level` set for the reached
+/// vertices of the final search. Also finds the root of
+/// [`super::bandwidth::reverse_cuthill_mckee`].
+pub(crate) fn peripheral_levels<'g>(
     set: &[usize],
     lab: u32,
     label: &[u32],
@@ -179,11 +181,11 @@ fn bfs<'g>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// Column pointers and row indices of a graph given by its edges.
-    fn pattern(n: usize, edges: &[(usize, usize)]) -> (Vec<usize>, Vec<usize>) {
+    pub(crate) fn pattern(n: usize, edges: &[(usize, usize)]) -> (Vec<usize>, Vec<usize>) {
         let mut adj = vec![Vec::new(); n];
         for &(a, b) in edges {
             adj[a].push(b);

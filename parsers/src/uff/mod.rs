@@ -123,18 +123,6 @@ impl Ordinate {
             Ordinate::ComplexSingle(v) => v.len() * 8,
         }
     }
-    /// The same values in double precision (exact: every `f32` is an `f64`).
-    pub fn to_double(&self) -> Ordinate {
-        match self {
-            Ordinate::RealSingle(v) => Ordinate::Real(v.iter().map(|&x| f64::from(x)).collect()),
-            Ordinate::ComplexSingle(v) => Ordinate::Complex(
-                v.iter()
-                    .map(|&(re, im)| (f64::from(re), f64::from(im)))
-                    .collect(),
-            ),
-            other => other.clone(),
-        }
-    }
 }
 
 /// CONTRACT. Records 8–11 of dataset 58: data characteristics of one axis.

@@ -52,7 +52,7 @@ use faer::{Accum, Col, Conj, Mat, MatMut, MatRef, Par};
 use super::EigenError;
 use crate::model::SparseMatrix;
 use crate::solvers::bandwidth;
-use crate::solvers::sparse_ops::par;
+use crate::solvers::sparse_ops::{par, PairPattern};
 
 /// Rows per block of the envelope steps: enough for efficient matrix
 /// products, small next to the envelope width of lattice models.
@@ -102,15 +102,14 @@ const RENUMBER_BELOW: f64 = 0.8;
 /// the envelope enough to be worth a renumbered copy of K and M.
 fn narrower_order(k: &SparseMatrix, m: &SparseMatrix) -> Option<Vec<usize>> {
     let n = k.nrows();
-    fn pattern(a: &SparseMatrix) -> (&[usize], &[usize]) {
-        (a.symbolic().col_ptr(), a.symbolic().row_idx())
-    }
-    let adj = bandwidth::adjacency(n, &[pattern(k), pattern(m)]);
+    // An unusable pair keeps its order; the factorisation reports why.
+    let union = PairPattern::new(k, m).ok()?;
+    let (col_ptr, row_idx) = (union.symbolic().col_ptr(), union.symbolic().row_idx());
     let identity: Vec<usize> = (0..n).collect();
-    let order = bandwidth::reverse_cuthill_mckee(&adj);
+    let order = bandwidth::reverse_cuthill_mckee(n, col_ptr, row_idx);
     let (before, after) = (
-        bandwidth::profile(&adj, &identity),
-        bandwidth::profile(&adj, &order),
+        bandwidth::profile(col_ptr, row_idx, &identity),
+        bandwidth::profile(col_ptr, row_idx, &order),
     );
     ((after as f64) < RENUMBER_BELOW * before as f64).then_some(order)
 }
@@ -427,8 +426,7 @@ fn largest_eigenvectors(mut c: Mat<f64>, count: usize, par: Par) -> Result<Mat<f
     })?;
     // μ ascending: reverse the column order in place and keep `count`.
     for j in 0..count.min(n / 2) {
-        let (left, right) = z.as_mut().split_at_col_mut(n - 1 - j);
-        swap_columns(left, right, j);
+        faer::perm::swap_cols_idx(z.as_mut(), j, n - 1 - j);
     }
     z.truncate(n, count);
     if n > 1 {
@@ -442,14 +440,6 @@ fn largest_eigenvectors(mut c: Mat<f64>, count: usize, par: Par) -> Result<Mat<f
         );
     }
     Ok(z)
-}
-
-/// Swaps column j of `left` with the first column of `right`.
-fn swap_columns(left: MatMut<'_, f64>, right: MatMut<'_, f64>, j: usize) {
-    let (a, b) = (left.col_mut(j), right.col_mut(0));
-    a.iter_mut()
-        .zip(b.iter_mut())
-        .for_each(|(x, y)| std::mem::swap(x, y));
 }
 
 /// y ← L⁻ᵀ y.
