@@ -110,17 +110,29 @@ pub fn update_model(
     // A free-free model tested on a suspension: test resonances below half the
     // first elastic natural frequency of the initial model are suspension
     // (rigid-body) modes, which the FE model cannot reproduce; leave them out.
+    // The probe solves model0 for at least as many modes as iteration 0 needs
+    // (the basis size only shrinks when peaks are left out), which reuses them.
+    let mut modes0: Option<Modes> = None;
     if !model0.has_fixed_dofs && !peaks.is_empty() {
+        let r_upper = resonances_used(opts, peaks.len(), n_ex);
+        let explicit = opts.frequencies_hz.as_ref().map(|f| f.len());
+        let n_eig_upper = eigen_count(
+            basis_size(opts, r_upper, explicit, n_ex),
+            peaks.len(),
+            model0.dofs.len(),
+        );
         let probe = lowest_modes(
             &model0.stiffness,
             &model0.mass,
             &EigenOptions {
-                count: 12.min(model0.dofs.len()),
+                count: n_eig_upper.max(12).min(model0.dofs.len()),
+                expect_no_rigid_body_modes: model0.has_fixed_dofs,
                 ..EigenOptions::default()
             },
         )
         .map_err(UpdateError::Eigen)?;
         let f = probe.frequencies_hz();
+        modes0 = Some(probe);
         let f_last = f.last().copied().unwrap_or(0.0);
         if let Some(&f_elastic) = f.iter().find(|&&x| x > 0.1 && x > 1e-3 * f_last) {
             let suspension: Vec<f64> = peaks
@@ -145,10 +157,7 @@ pub fn update_model(
             }
         }
     }
-    let r_used = match opts.resonances {
-        Some(r) => r.min(peaks.len()),
-        None => peaks.len().min(n_ex).min(8),
-    };
+    let r_used = resonances_used(opts, peaks.len(), n_ex);
     let updating = match &opts.frequencies_hz {
         Some(f) => UpdatingFrequencies::explicit(f, &meas.lines_hz),
         None => {
@@ -181,16 +190,12 @@ pub fn update_model(
     };
     let test_hz: Vec<f64> = peaks.iter().map(|r| r.frequency_hz).collect();
 
-    let r_basis = if opts.frequencies_hz.is_some() {
-        r_used.max(updating.len() / 2)
-    } else {
-        r_used
-    };
-    let n_md = opts
-        .modes
-        .unwrap_or_else(|| (2 * r_basis).max(r_basis + 4))
-        .min(n_ex)
-        .max(1);
+    let n_md = basis_size(
+        opts,
+        r_used,
+        opts.frequencies_hz.as_ref().map(|_| updating.len()),
+        n_ex,
+    );
     if let Some(m) = opts.modes {
         if m > n_ex {
             warnings.push(UpdateWarning::FewerModes {
@@ -211,6 +216,8 @@ pub fn update_model(
     let mut stop = StopReason::IterationLimit;
     let mut fe_frfs_initial = Vec::new();
     let mut fe_frfs_last = Vec::new();
+    // FE FRFs of the iteration with the highest mean SFDAC so far (`best_index`).
+    let mut fe_frfs_best = Vec::new();
     let mut warned_null = false;
     let mut warned_fewer = false;
     // Frequencies-first stage: while the paired resonances are far off, FRF
@@ -230,16 +237,19 @@ pub fn update_model(
                 build(&values).map_err(UpdateError::Model)?
             }
         };
-        let modes = lowest_modes(
-            &fe.stiffness,
-            &fe.mass,
-            &EigenOptions {
-                count: n_eig,
-                expect_no_rigid_body_modes: fe.has_fixed_dofs,
-                ..EigenOptions::default()
-            },
-        )
-        .map_err(UpdateError::Eigen)?;
+        let modes = match modes0.take().filter(|m| m.len() >= n_eig) {
+            Some(m) => leading_modes(m, n_eig),
+            None => lowest_modes(
+                &fe.stiffness,
+                &fe.mass,
+                &EigenOptions {
+                    count: n_eig,
+                    expect_no_rigid_body_modes: fe.has_fixed_dofs,
+                    ..EigenOptions::default()
+                },
+            )
+            .map_err(UpdateError::Eigen)?,
+        };
         let fe_hz = modes.frequencies_hz();
         let basis = SerepBasis::select(&modes, &meas.equations, n_md, opts.basis_tolerance)
             .map_err(UpdateError::Serep)?;
@@ -302,6 +312,9 @@ pub fn update_model(
                     });
                 }
             }
+        }
+        if records.is_empty() || sfdac.mean > records[best_index(&records)].sfdac.mean {
+            fe_frfs_best = eqs.fe_frf.clone();
         }
         fe_frfs_last = eqs.fe_frf.clone();
         let record = IterationRecord {
@@ -506,36 +519,7 @@ pub fn update_model(
     let fdac_final = if final_iteration == records.len() - 1 {
         fdac_matrix(&fe_frfs_last, &h_test)
     } else {
-        // Recompute the FE FRFs of the returned (best) iteration.
-        let vals: ParameterValues = names
-            .iter()
-            .cloned()
-            .zip(records[final_iteration].parameters.iter().copied())
-            .collect();
-        let fe = build(&vals).map_err(UpdateError::Model)?;
-        let modes = lowest_modes(
-            &fe.stiffness,
-            &fe.mass,
-            &EigenOptions {
-                count: n_eig,
-                expect_no_rigid_body_modes: fe.has_fixed_dofs,
-                ..EigenOptions::default()
-            },
-        )
-        .map_err(UpdateError::Eigen)?;
-        let basis = SerepBasis::select(&modes, &meas.equations, n_md, opts.basis_tolerance)
-            .map_err(UpdateError::Serep)?;
-        let sens = ModalSensitivities::project(&[], modes.shapes.as_ref(), &basis.modes);
-        let eqs = frf_equations(
-            &basis,
-            &sens,
-            &omegas,
-            &h_test,
-            meas.excitation_row,
-            InverseMethod::Svd,
-        )
-        .map_err(UpdateError::Sensitivity)?;
-        fdac_matrix(&eqs.fe_frf, &h_test)
+        fdac_matrix(&fe_frfs_best, &h_test)
     };
     Ok(UpdateResult {
         converged: stop == StopReason::Converged,
@@ -556,11 +540,50 @@ pub fn update_model(
     })
 }
 
+/// R, the measured resonances the updating frequencies are placed around:
+/// `--resonances`, else all found up to the measured DOFs and at most 8.
+fn resonances_used(opts: &UpdateOptions, peaks: usize, n_ex: usize) -> usize {
+    match opts.resonances {
+        Some(r) => r.min(peaks),
+        None => peaks.min(n_ex).min(8),
+    }
+}
+
+/// N_md, the SEREP basis size: `--modes`, else max(2R', R' + 4) with R' = R,
+/// or with explicit frequencies max(R, their count / 2); at most the measured
+/// DOFs. Monotone in both counts.
+fn basis_size(
+    opts: &UpdateOptions,
+    r_used: usize,
+    explicit_frequencies: Option<usize>,
+    n_ex: usize,
+) -> usize {
+    let r_basis = match explicit_frequencies {
+        Some(f) => r_used.max(f / 2),
+        None => r_used,
+    };
+    opts.modes
+        .unwrap_or_else(|| (2 * r_basis).max(r_basis + 4))
+        .min(n_ex)
+        .max(1)
+}
+
 /// How many of the lowest modes are computed per iteration: the N_md of the
 /// basis plus max(N_md/2, 4) spare ones (invisible modes are skipped), and at
 /// least two more than the measured resonances (for pairing).
 pub fn eigen_count(n_md: usize, resonances: usize, dofs: usize) -> usize {
     (n_md + (n_md / 2).max(4)).max(resonances + 2).min(dofs)
+}
+
+/// The first `count` of `modes` (ascending frequency).
+fn leading_modes(modes: Modes, count: usize) -> Modes {
+    if modes.len() == count {
+        return modes;
+    }
+    Modes {
+        omega2: modes.omega2[..count].to_vec(),
+        shapes: modes.shapes.get(.., ..count).to_owned(),
+    }
 }
 
 /// Index of the record with the highest SFDAC mean (earliest on ties).
