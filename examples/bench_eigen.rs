@@ -64,6 +64,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 i += 1;
             }
             "--dense" => dense = true,
+            "--shift" => {
+                tuning.shift = Some(args.get(i + 1).ok_or("--shift S")?.parse()?);
+                i += 1;
+            }
+            "--tol" => {
+                tuning.tolerance = args.get(i + 1).ok_or("--tol T")?.parse()?;
+                i += 1;
+            }
             "--block" => {
                 tuning.block_size = args.get(i + 1).ok_or("--block B")?.parse()?;
                 i += 1;

@@ -1,8 +1,7 @@
 //! Small helpers on the assembled sparse matrices shared by the solvers.
 
-use faer::sparse::linalg::matmul::sparse_dense_matmul;
 use faer::sparse::{Pair, SparseColMat, SymbolicSparseColMat};
-use faer::{Accum, Mat, MatRef, Par};
+use faer::{Mat, MatRef, Par};
 
 use crate::model::SparseMatrix;
 
@@ -52,13 +51,6 @@ pub(crate) fn diagonal(a: &SparseMatrix) -> Vec<f64> {
         }
     }
     d
-}
-
-/// A · X for sparse A and dense X.
-pub(crate) fn sp_mul(a: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
-    let mut y = Mat::<f64>::zeros(a.nrows(), x.ncols());
-    sparse_dense_matmul(y.as_mut(), Accum::Replace, a.as_ref(), x, 1.0, par_iter());
-    y
 }
 
 /// The union sparsity pattern of K and M, with where each of their entries
@@ -130,5 +122,149 @@ impl PairPattern {
     pub(crate) fn combine(&self, alpha: f64, beta: f64) -> SparseMatrix {
         let vals = self.values_with(|k| alpha * k, |m| beta * m);
         SparseColMat::new(self.symbolic.clone(), vals)
+    }
+}
+
+/// A sparse matrix stored by rows (CSR), for products with a few dense
+/// columns: each nonzero updates all columns of a row at once, from a
+/// row-major copy of the right-hand side (one contiguous load per nonzero
+/// instead of one per column).
+pub(crate) struct RowMatrix {
+    row_ptr: Vec<usize>,
+    col: Vec<usize>,
+    val: Vec<f64>,
+}
+
+impl RowMatrix {
+    /// B = P A Pᵀ with (P v)_i = v_{fwd[i]}, i.e. B_ij = A_{fwd[i], fwd[j]};
+    /// columns sorted within each row.
+    pub(crate) fn permuted(a: &SparseMatrix, fwd: &[usize]) -> Self {
+        let n = a.nrows();
+        let sym = a.symbolic();
+        // Rows of A by a counting sort of its columns (CSC → CSR).
+        let mut a_ptr = vec![0usize; n + 1];
+        for j in 0..a.ncols() {
+            for &i in sym.row_idx_of_col_raw(j) {
+                a_ptr[i + 1] += 1;
+            }
+        }
+        for i in 0..n {
+            a_ptr[i + 1] += a_ptr[i];
+        }
+        let nnz = a_ptr[n];
+        let mut a_col = vec![0usize; nnz];
+        let mut a_val = vec![0.0; nnz];
+        let mut next = a_ptr.clone();
+        for j in 0..a.ncols() {
+            for (&i, &v) in sym.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+                a_col[next[i]] = j;
+                a_val[next[i]] = v;
+                next[i] += 1;
+            }
+        }
+        let mut inv = vec![0usize; n];
+        for (i, &f) in fwd.iter().enumerate() {
+            inv[f] = i;
+        }
+        let mut row_ptr = Vec::with_capacity(n + 1);
+        row_ptr.push(0);
+        let mut col = Vec::with_capacity(nnz);
+        let mut val = Vec::with_capacity(nnz);
+        let mut row: Vec<(usize, f64)> = Vec::new();
+        for &f in fwd {
+            row.clear();
+            row.extend((a_ptr[f]..a_ptr[f + 1]).map(|p| (inv[a_col[p]], a_val[p])));
+            row.sort_unstable_by_key(|e| e.0);
+            col.extend(row.iter().map(|e| e.0));
+            val.extend(row.iter().map(|e| e.1));
+            row_ptr.push(col.len());
+        }
+        RowMatrix { row_ptr, col, val }
+    }
+
+    /// B x for x with a few columns.
+    pub(crate) fn mul(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let n = self.row_ptr.len() - 1;
+        let b = x.ncols();
+        let mut xr = vec![0.0; n * b];
+        for c in 0..b {
+            for (j, &v) in x.col(c).iter().enumerate() {
+                xr[j * b + c] = v;
+            }
+        }
+        let mut y = Mat::<f64>::zeros(n, b);
+        match b {
+            8 => self.mul_rows::<8>(&xr, &mut y),
+            4 => self.mul_rows::<4>(&xr, &mut y),
+            _ => {
+                let mut acc = vec![0.0; b];
+                for i in 0..n {
+                    acc.fill(0.0);
+                    for p in self.row_ptr[i]..self.row_ptr[i + 1] {
+                        let (v, xs) = (self.val[p], &xr[self.col[p] * b..][..b]);
+                        acc.iter_mut().zip(xs).for_each(|(a, x)| *a += v * x);
+                    }
+                    for (c, a) in acc.iter().enumerate() {
+                        y[(i, c)] = *a;
+                    }
+                }
+            }
+        }
+        y
+    }
+
+    fn mul_rows<const B: usize>(&self, xr: &[f64], y: &mut Mat<f64>) {
+        for i in 0..self.row_ptr.len() - 1 {
+            let mut acc = [0.0; B];
+            for p in self.row_ptr[i]..self.row_ptr[i + 1] {
+                let v = self.val[p];
+                let xs: &[f64; B] = xr[self.col[p] * B..][..B].try_into().unwrap_or(&[0.0; B]);
+                for c in 0..B {
+                    acc[c] += v * xs[c];
+                }
+            }
+            for (c, a) in acc.iter().enumerate() {
+                y[(i, c)] = *a;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::Triplet;
+
+    /// P A Pᵀ X by rows against the dense product, for the specialised block
+    /// widths (8, 4) and the general one (3), on an unsymmetric pattern so
+    /// that rows and columns cannot be confused. Same operations in the same
+    /// order per entry up to the summation order of each row: 1e-13 relative.
+    #[test]
+    fn permuted_row_product_matches_dense() {
+        let n = 37;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 2.0 + i as f64));
+            t.push(Triplet::new(i, (i * 7 + 3) % n, 0.5 - 0.01 * i as f64));
+            t.push(Triplet::new((i * 5 + 1) % n, i, -0.25 * (i % 4) as f64));
+        }
+        let a = SparseMatrix::try_new_from_triplets(n, n, &t).unwrap();
+        let dense = a.to_dense();
+        let fwd: Vec<usize> = (0..n).map(|i| (i * 11 + 4) % n).collect();
+        let rows = RowMatrix::permuted(&a, &fwd);
+        for b in [8, 4, 3] {
+            let x = Mat::from_fn(n, b, |i, j| ((i * 3 + j * 17) % 13) as f64 - 6.0);
+            let y = rows.mul(x.as_ref());
+            for c in 0..b {
+                for i in 0..n {
+                    let expect: f64 = (0..n).map(|j| dense[(fwd[i], fwd[j])] * x[(j, c)]).sum();
+                    let got = y[(i, c)];
+                    assert!(
+                        (got - expect).abs() <= 1e-13 * expect.abs().max(1.0),
+                        "b = {b}, ({i}, {c}): {got} vs {expect}"
+                    );
+                }
+            }
+        }
     }
 }
