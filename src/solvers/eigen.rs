@@ -10,6 +10,7 @@
 
 pub mod dense;
 pub mod lanczos;
+pub mod tridiagonal;
 
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::Mat;

@@ -49,7 +49,7 @@ use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::sparse::Triplet;
 use faer::{Accum, Col, Conj, Mat, MatMut, MatRef, Par};
 
-use super::EigenError;
+use super::{tridiagonal, EigenError};
 use crate::model::SparseMatrix;
 use crate::solvers::bandwidth;
 use crate::solvers::sparse_ops::{par, PairPattern};
@@ -385,6 +385,11 @@ fn reduce(l: MatRef<'_, f64>, m: &SparseMatrix, envelope: &Envelope, par: Par) -
     c
 }
 
+/// [`tridiagonal::largest_pairs`] is used when at most 1/`SUBSET_BELOW` of the
+/// eigenpairs are wanted (the updater's ~40 of a few hundred; a full
+/// decomposition for `modes` of all of them).
+const SUBSET_BELOW: usize = 4;
+
 /// Eigenvectors of the `count` largest eigenvalues of the symmetric C,
 /// largest first (C's lower triangle is read and overwritten).
 fn largest_eigenvectors(mut c: Mat<f64>, count: usize, par: Par) -> Result<Mat<f64>, EigenError> {
@@ -410,6 +415,29 @@ fn largest_eigenvectors(mut c: Mat<f64>, count: usize, par: Par) -> Result<Mat<f
     );
     let diag = Col::<f64>::from_fn(n, |i| c[(i, i)]);
     let subdiag = Col::<f64>::from_fn(n.saturating_sub(1), |i| c[(i + 1, i)]);
+    // A few of many: bisection and inverse iteration on T (O(n·count)) instead
+    // of all n eigenvectors of T; a full decomposition if its checks fail.
+    let subset = if count * SUBSET_BELOW <= n && n >= 32 {
+        let d: Vec<f64> = diag.iter().copied().collect();
+        let e: Vec<f64> = subdiag.iter().copied().collect();
+        tridiagonal::largest_pairs(&d, &e, count)
+            .map(|(_, vecs)| Mat::from_fn(n, count, |i, j| vecs[j][i]))
+    } else {
+        None
+    };
+    if let Some(mut z) = subset {
+        if n > 1 {
+            apply_block_householder_sequence_on_the_left_in_place_with_conj(
+                c.as_ref().submatrix(1, 0, n - 1, n - 1),
+                householder.as_ref(),
+                Conj::No,
+                z.as_mut().subrows_mut(1, n - 1),
+                par,
+                MemStack::new(&mut mem),
+            );
+        }
+        return Ok(z);
+    }
     let mut mu = Col::<f64>::zeros(n);
     let mut z = Mat::<f64>::zeros(n, n);
     tridiagonal_self_adjoint_evd(

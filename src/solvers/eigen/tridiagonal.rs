@@ -1,0 +1,304 @@
+//! The largest eigenpairs of a symmetric tridiagonal matrix T by bisection and
+//! inverse iteration (the method of LAPACK's `dstebz` + `dstein`).
+//!
+//! When only k ≪ n eigenpairs are wanted this costs O(n k) per sweep instead of
+//! the O(n²) vectors of a full divide and conquer: on the 336-DOF GARTEUR
+//! model (39 of 336) the tridiagonal stage drops from ~6 ms to well under 1 ms.
+//!
+//! - Eigenvalues: Sturm counts. The number of eigenvalues of T below x is the
+//!   number of negative pivots of the LDLᵀ factorisation of T − xI
+//!   (q₀ = d₀ − x, q_i = d_i − x − e²_{i−1}/q_{i−1}); bisection on that count
+//!   from Gershgorin bounds to a width of a few ulps of ‖T‖.
+//! - Eigenvectors: inverse iteration, (T − λI) x_{k+1} = x_k with a tridiagonal
+//!   LU with partial pivoting, three sweeps from a fixed pseudo-random start.
+//!   Vectors of eigenvalues closer than 10⁻³‖T‖ (a cluster) are
+//!   Gram–Schmidt-orthogonalised against each other after every sweep, and
+//!   coincident eigenvalues are pulled apart by 10 ulps of ‖T‖, as `dstein` does.
+//!
+//! The result is checked (‖T z − λz‖ ≤ 10⁻¹⁰‖T‖ for each pair, |z_iᵀz_j − δ_ij|
+//! ≤ 10⁻¹⁰ for all pairs); on failure [`largest_pairs`] returns `None` and the
+//! caller uses a full decomposition instead.
+
+/// The `count` largest eigenvalues of T (diagonal `d`, subdiagonal `e`),
+/// largest first, and their orthonormal eigenvectors (n × count), or `None`
+/// if the checks above fail.
+pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
+    let n = d.len();
+    if n == 0 || e.len() + 1 != n || count > n {
+        return None;
+    }
+    if d.iter().chain(e).any(|v| !v.is_finite()) {
+        return None;
+    }
+    // Gershgorin interval and a norm of T.
+    let radius = |i: usize| {
+        (if i > 0 { e[i - 1].abs() } else { 0.0 }) + (if i + 1 < n { e[i].abs() } else { 0.0 })
+    };
+    let lo = (0..n)
+        .map(|i| d[i] - radius(i))
+        .fold(f64::INFINITY, f64::min);
+    let hi = (0..n)
+        .map(|i| d[i] + radius(i))
+        .fold(f64::NEG_INFINITY, f64::max);
+    let norm = lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
+    let e2: Vec<f64> = e.iter().map(|v| v * v).collect();
+    // A zero pivot is replaced by this (as LAPACK's pivmin).
+    let pivmin = f64::MIN_POSITIVE.max(f64::EPSILON * f64::EPSILON * norm);
+
+    // Eigenvalue with ascending index j = n − 1 − r: the least x with more
+    // than j eigenvalues below it. All `count` bisections advance together,
+    // one Sturm sequence per lane, so the divisions of different eigenvalues
+    // overlap instead of waiting on each other.
+    let tol = 4.0 * f64::EPSILON * norm;
+    let mut a = vec![lo - tol; count];
+    let mut b = vec![hi + tol; count];
+    let mut mid = vec![0.0; count];
+    let mut q = vec![0.0; count];
+    let mut negatives = vec![0usize; count];
+    let rounds = (((hi - lo + 2.0 * tol) / tol).log2().ceil() as usize + 1).min(200);
+    for _ in 0..rounds {
+        for r in 0..count {
+            mid[r] = 0.5 * (a[r] + b[r]);
+        }
+        negatives.fill(0);
+        for i in 0..n {
+            let (di, e2i) = (d[i], if i > 0 { e2[i - 1] } else { 0.0 });
+            for r in 0..count {
+                let prev = if i > 0 { q[r] } else { 1.0 };
+                let mut qi = di - mid[r] - e2i / prev;
+                if qi.abs() < pivmin {
+                    qi = -pivmin;
+                }
+                negatives[r] += (qi < 0.0) as usize;
+                q[r] = qi;
+            }
+        }
+        for r in 0..count {
+            if negatives[r] > n - 1 - r {
+                b[r] = mid[r];
+            } else {
+                a[r] = mid[r];
+            }
+        }
+    }
+    let values: Vec<f64> = (0..count).map(|r| 0.5 * (a[r] + b[r])).collect();
+
+    // Inverse iteration, largest first.
+    let cluster_gap = 1e-3 * norm;
+    let separation = 10.0 * f64::EPSILON * norm;
+    let mut vectors: Vec<Vec<f64>> = Vec::with_capacity(count);
+    let mut cluster_start = 0;
+    let mut previous_shift = f64::INFINITY;
+    let mut seed = 0x2545_F491_4F6C_DD1Du64;
+    for r in 0..count {
+        let lambda = values[r];
+        if r == 0 || values[r - 1] - lambda > cluster_gap {
+            cluster_start = r;
+        }
+        // Pull coincident eigenvalues apart so the solves differ.
+        let mut shift = lambda;
+        if r > cluster_start && previous_shift - shift < separation {
+            shift = previous_shift - separation;
+        }
+        previous_shift = shift;
+        let lu = TridiagonalLu::of(d, e, shift, pivmin.max(f64::EPSILON * norm));
+        let mut x: Vec<f64> = (0..n)
+            .map(|_| {
+                seed ^= seed >> 12;
+                seed ^= seed << 25;
+                seed ^= seed >> 27;
+                (seed.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+            })
+            .collect();
+        for _ in 0..3 {
+            lu.solve(&mut x);
+            for v in &vectors[cluster_start..r] {
+                let dot: f64 = v.iter().zip(&x).map(|(a, b)| a * b).sum();
+                x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= dot * vi);
+            }
+            let scale = x.iter().map(|v| v * v).sum::<f64>().sqrt();
+            if !(scale > 0.0 && scale.is_finite()) {
+                return None;
+            }
+            x.iter_mut().for_each(|v| *v /= scale);
+        }
+        vectors.push(x);
+    }
+
+    // Checks: residuals and orthonormality.
+    let check = 1e-10;
+    for (lambda, z) in values.iter().zip(&vectors) {
+        let mut res = 0.0f64;
+        for i in 0..n {
+            let mut t = (d[i] - lambda) * z[i];
+            if i > 0 {
+                t += e[i - 1] * z[i - 1];
+            }
+            if i + 1 < n {
+                t += e[i] * z[i + 1];
+            }
+            res = res.max(t.abs());
+        }
+        if res > check * norm {
+            return None;
+        }
+    }
+    for i in 0..count {
+        for j in 0..=i {
+            let dot: f64 = vectors[i].iter().zip(&vectors[j]).map(|(a, b)| a * b).sum();
+            let expect = if i == j { 1.0 } else { 0.0 };
+            if (dot - expect).abs() > check {
+                return None;
+            }
+        }
+    }
+    Some((values, vectors))
+}
+
+/// LU factorisation with partial pivoting of T − λI (LAPACK `dgttrf`): L unit
+/// lower bidiagonal with row interchanges, U upper with two superdiagonals.
+struct TridiagonalLu {
+    /// Multipliers.
+    l: Vec<f64>,
+    /// U's diagonal, first and second superdiagonals.
+    u0: Vec<f64>,
+    u1: Vec<f64>,
+    u2: Vec<f64>,
+    /// Row i was interchanged with row i + 1.
+    swapped: Vec<bool>,
+}
+
+impl TridiagonalLu {
+    /// Factors T − λI; pivots smaller than `tiny` in magnitude are replaced
+    /// by ±`tiny` (λ is an eigenvalue to working precision, so T − λI is
+    /// singular and a huge solution is what inverse iteration wants).
+    fn of(d: &[f64], e: &[f64], lambda: f64, tiny: f64) -> Self {
+        let n = d.len();
+        let mut u0: Vec<f64> = d.iter().map(|v| v - lambda).collect();
+        let mut u1: Vec<f64> = e.to_vec();
+        let mut u2 = vec![0.0; n.saturating_sub(2)];
+        let mut l: Vec<f64> = e.to_vec();
+        let mut swapped = vec![false; n.saturating_sub(1)];
+        for i in 0..n.saturating_sub(1) {
+            let sub = l[i];
+            if u0[i].abs() >= sub.abs() {
+                let pivot = if u0[i].abs() < tiny {
+                    tiny.copysign(u0[i])
+                } else {
+                    u0[i]
+                };
+                u0[i] = pivot;
+                let f = sub / pivot;
+                l[i] = f;
+                u0[i + 1] -= f * u1[i];
+            } else {
+                // Interchange rows i and i + 1.
+                let f = u0[i] / sub;
+                u0[i] = sub;
+                l[i] = f;
+                let t = u1[i];
+                u1[i] = u0[i + 1];
+                u0[i + 1] = t - f * u0[i + 1];
+                if i + 1 < n - 1 {
+                    u2[i] = u1[i + 1];
+                    u1[i + 1] *= -f;
+                }
+                swapped[i] = true;
+            }
+        }
+        if u0[n - 1].abs() < tiny {
+            u0[n - 1] = tiny.copysign(u0[n - 1]);
+        }
+        TridiagonalLu {
+            l,
+            u0,
+            u1,
+            u2,
+            swapped,
+        }
+    }
+
+    /// x ← (T − λI)⁻¹ x.
+    fn solve(&self, x: &mut [f64]) {
+        let n = x.len();
+        for i in 0..n - 1 {
+            if self.swapped[i] {
+                let t = x[i];
+                x[i] = x[i + 1];
+                x[i + 1] = t - self.l[i] * x[i];
+            } else {
+                x[i + 1] -= self.l[i] * x[i];
+            }
+        }
+        x[n - 1] /= self.u0[n - 1];
+        if n > 1 {
+            x[n - 2] = (x[n - 2] - self.u1[n - 2] * x[n - 1]) / self.u0[n - 2];
+        }
+        for i in (0..n.saturating_sub(2)).rev() {
+            x[i] = (x[i] - self.u1[i] * x[i + 1] - self.u2[i] * x[i + 2]) / self.u0[i];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The 1-D Laplacian tridiag(−1, 2, −1) of order n has eigenvalues
+    /// 2 − 2 cos(jπ/(n+1)) and eigenvectors sin(ijπ/(n+1)): closed form.
+    #[test]
+    fn laplacian_matches_closed_form() {
+        let n = 200;
+        let d = vec![2.0; n];
+        let e = vec![-1.0; n - 1];
+        let (values, vectors) = largest_pairs(&d, &e, 12).expect("well separated");
+        let h = std::f64::consts::PI / (n + 1) as f64;
+        for (r, (lambda, z)) in values.iter().zip(&vectors).enumerate() {
+            let j = (n - r) as f64;
+            let exact = 2.0 - 2.0 * (j * h).cos();
+            // Bisection to 4 ulps of ‖T‖ = 4.
+            assert!(
+                (lambda - exact).abs() < 1e-14 * 4.0,
+                "λ{r}: {lambda} vs {exact}"
+            );
+            let norm = (0.5 * (n + 1) as f64).sqrt();
+            let dot: f64 = (0..n)
+                .map(|i| z[i] * ((i + 1) as f64 * j * h).sin() / norm)
+                .sum();
+            // Gap 2.4e-4 relative: the vector is accurate to ~ε‖T‖/gap.
+            assert!(
+                (dot.abs() - 1.0).abs() < 1e-10,
+                "vector {r}: |cos| = {}",
+                dot.abs()
+            );
+        }
+    }
+
+    /// A direct sum of three copies of the same block (a zero off-diagonal
+    /// splits T): every eigenvalue is triple, as for rigid-body modes. The
+    /// vectors must still be orthonormal and span the right subspaces.
+    #[test]
+    fn multiple_eigenvalues_give_orthonormal_vectors() {
+        let block_d = [4.0, 1.0, 3.0, 2.0];
+        let block_e = [0.5, -0.7, 0.2];
+        let mut d = Vec::new();
+        let mut e = Vec::new();
+        for copy in 0..3 {
+            d.extend_from_slice(&block_d);
+            e.extend_from_slice(&block_e);
+            if copy < 2 {
+                e.push(0.0);
+            }
+        }
+        let (values, vectors) = largest_pairs(&d, &e, 6).expect("checked pairs");
+        assert!((values[0] - values[2]).abs() < 1e-13 && (values[3] - values[5]).abs() < 1e-13);
+        assert!(values[2] - values[3] > 0.1);
+        for (i, zi) in vectors.iter().enumerate() {
+            for (j, zj) in vectors.iter().enumerate() {
+                let dot: f64 = zi.iter().zip(zj).map(|(a, b)| a * b).sum();
+                let expect = if i == j { 1.0 } else { 0.0 };
+                assert!((dot - expect).abs() < 1e-12, "z{i}·z{j} = {dot}");
+            }
+        }
+    }
+}
