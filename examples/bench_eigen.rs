@@ -6,7 +6,8 @@
 //! Prints one JSON line: sizes, path, seconds of the eigen solve, peak RSS
 //! (VmHWM, MB) before and after it, and the frequencies. With --export, writes
 //! DIR/K.mtx, DIR/M.mtx (Matrix Market, symmetric, lower triangle),
-//! DIR/shift.txt (σ used) and DIR/omega2.txt (our ω², one per line).
+//! DIR/shift.txt (σ used), DIR/shift0.txt (the initial σ₀ = −1e-8·max K_ii/M_ii,
+//! before the automatic move) and DIR/omega2.txt (our ω², one per line).
 
 use std::io::Write;
 use std::time::Instant;
@@ -128,6 +129,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         write_mtx(&dir.join("K.mtx"), &fe.stiffness)?;
         write_mtx(&dir.join("M.mtx"), &fe.mass)?;
         std::fs::write(dir.join("shift.txt"), format!("{:e}\n", report.shift))?;
+        // The shift the sparse path starts from before it moves σ up (see
+        // `EigenTuning::shift`): what a caller knows without our probe.
+        let initial = -1e-8 * report.stiffness_scale;
+        std::fs::write(dir.join("shift0.txt"), format!("{initial:e}\n"))?;
         let w2: Vec<String> = modes.omega2.iter().map(|w| format!("{w:.17e}")).collect();
         std::fs::write(dir.join("omega2.txt"), w2.join("\n") + "\n")?;
     }
