@@ -118,7 +118,7 @@ pub struct EigenTuning {
     /// Sparse path: restarts before giving up.
     pub max_restarts: usize,
     /// Sparse path, automatic shift only: after a first factorisation, move σ
-    /// up to 0.9 of the way to an estimate of the lowest ω² (see
+    /// up to 0.97 of the way to an estimate of the lowest ω² (see
     /// [`lanczos`]), which speeds up convergence on fixed structures.
     pub auto_shift: bool,
 }

@@ -218,7 +218,9 @@ impl RowMatrix {
             let mut acc = [0.0; B];
             for p in self.row_ptr[i]..self.row_ptr[i + 1] {
                 let v = self.val[p];
-                let xs: &[f64; B] = xr[self.col[p] * B..][..B].try_into().unwrap_or(&[0.0; B]);
+                let xs: &[f64; B] = xr[self.col[p] * B..][..B]
+                    .try_into()
+                    .expect("B values per row");
                 for c in 0..B {
                     acc[c] += v * xs[c];
                 }

@@ -41,8 +41,11 @@ pub struct ShiftedCholesky {
     fwd: Vec<usize>,
     /// The shift σ (rad²/s²).
     pub shift: f64,
-    /// P M Pᵀ by rows, built by the first [`ShiftedCholesky::apply`].
+    /// P M Pᵀ by rows, built by the first [`ShiftedCholesky::apply`] (solves
+    /// alone, as for FRFs, never need it).
     permuted_mass: std::sync::OnceLock<RowMatrix>,
+    /// Stored entries of the M given to `new`, to catch another M in `apply`.
+    mass_nonzeros: usize,
 }
 
 impl ShiftedCholesky {
@@ -75,6 +78,7 @@ impl ShiftedCholesky {
             fwd,
             shift,
             permuted_mass: std::sync::OnceLock::new(),
+            mass_nonzeros: m.compute_nnz(),
         };
         let mut sigma = shift;
         for _ in 0..6 {
@@ -144,6 +148,7 @@ impl ShiftedCholesky {
         let l = self.supernodal();
         let mut z = y.to_owned();
         l.l_transpose_solve_with_conj(Conj::No, z.as_mut(), par, MemStack::new(&mut mem));
+        debug_assert_eq!(m.compute_nnz(), self.mass_nonzeros, "not the M of new()");
         let mass = self
             .permuted_mass
             .get_or_init(|| RowMatrix::permuted(m, &self.fwd));
@@ -332,9 +337,9 @@ const SHIFT_FRACTIONS: [f64; 4] = [0.97, 0.85, 0.5, 0.25];
 /// that govern Krylov convergence grow by up to (ω²₁ − σ₀)/(ω²₁ − σ).
 ///
 /// A short Lanczos run estimates ω²₁ ≈ σ₀ + 1/θ₁ (θ₁ ≤ μ₁, so this is an upper
-/// bound); σ = σ₀ + 0.9 (ω²₁ − σ₀). By Sylvester's law of inertia K − σM is
+/// bound); σ = σ₀ + f (ω²₁ − σ₀) for f in [`SHIFT_FRACTIONS`]. By Sylvester's law of inertia K − σM is
 /// positive definite iff σ < ω²₁, so a failed Cholesky means σ was too high:
-/// halve the step (three times), else return to σ₀.
+/// try the next fraction, and after the last return to σ₀.
 fn move_shift_up(chol: &mut ShiftedCholesky, m: &SparseMatrix, tuning: &EigenTuning) {
     let sigma0 = chol.shift;
     let n = chol.fwd.len();
