@@ -64,6 +64,10 @@ struct State {
     /// The region blocks are bumped from, and its first free offset.
     current: Option<usize>,
     top: usize,
+    /// Offset of the current region from which its memory was never handed
+    /// out since it was mapped: still zero (`top` goes back to 0 when the
+    /// region's blocks are all freed, `clean` does not).
+    clean: usize,
 }
 
 struct Shared(UnsafeCell<State>);
@@ -81,6 +85,7 @@ static STATE: Shared = Shared(UnsafeCell::new(State {
     huge_budget: usize::MAX,
     current: None,
     top: 0,
+    clean: 0,
 }));
 
 fn with_state<R>(f: impl FnOnce(&mut State) -> R) -> R {
@@ -178,7 +183,9 @@ fn unmap(r: &Region) {
 }
 
 impl State {
-    fn bump(&mut self, layout: &Layout) -> Option<usize> {
+    /// A block and how many of its first bytes may be dirty (handed out
+    /// before): the rest are still zero.
+    fn bump(&mut self, layout: &Layout) -> Option<(usize, usize)> {
         let c = self.current?;
         let r = &mut self.regions[c];
         let align = layout.align().max(16);
@@ -186,12 +193,15 @@ impl State {
         if start + layout.size() > r.base + REGION {
             return None;
         }
+        let dirty = self.clean.saturating_sub(start - r.base).min(layout.size());
         self.top = start + layout.size() - r.base;
+        self.clean = self.clean.max(self.top);
         r.live += 1;
-        Some(start)
+        Some((start, dirty))
     }
 
-    fn alloc(&mut self, layout: &Layout) -> Option<usize> {
+    /// A region block, and how many of its first bytes may be dirty.
+    fn alloc(&mut self, layout: &Layout) -> Option<(usize, usize)> {
         if let Some(p) = self.bump(layout) {
             return Some(p);
         }
@@ -216,6 +226,7 @@ impl State {
         MAPPED.fetch_add(1, Ordering::Relaxed);
         self.current = Some(slot);
         self.top = 0;
+        self.clean = 0;
         self.bump(layout)
     }
 
@@ -251,12 +262,27 @@ impl State {
 unsafe impl GlobalAlloc for FrfupAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         if READING.load(Ordering::Relaxed) > 0 && eligible(&layout) {
-            if let Some(p) = with_state(|s| s.alloc(&layout)) {
+            if let Some((p, _)) = with_state(|s| s.alloc(&layout)) {
                 return p as *mut u8;
             }
         }
         // SAFETY: forwarded as received.
         unsafe { System.alloc(layout) }
+    }
+
+    /// Zeroes only what a region block may hold from an earlier block: the
+    /// rest of a fresh mapping is zero already (`vec![0.0; n]`, which the
+    /// 58b reader reads data into, costs no pass over the memory).
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        if READING.load(Ordering::Relaxed) > 0 && eligible(&layout) {
+            if let Some((p, dirty)) = with_state(|s| s.alloc(&layout)) {
+                // SAFETY: the first `dirty` bytes of the new block.
+                unsafe { std::ptr::write_bytes(p as *mut u8, 0, dirty) };
+                return p as *mut u8;
+            }
+        }
+        // SAFETY: forwarded as received.
+        unsafe { System.alloc_zeroed(layout) }
     }
 
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
@@ -327,12 +353,13 @@ mod tests {
             huge_budget: 3 * HUGE_PAGE + HUGE_PAGE / 2,
             current: None,
             top: 0,
+            clean: 0,
         };
         let block = Layout::from_size_align(MAX_BLOCK, 16).unwrap();
         let mut blocks = Vec::new();
         // 64 MiB regions of 16 MiB blocks: the fifth block opens a second region.
         for _ in 0..5 {
-            blocks.push(s.alloc(&block).expect("region block"));
+            blocks.push(s.alloc(&block).expect("region block").0);
         }
         let first = s.region_of(blocks[0]).unwrap();
         let second = s.region_of(blocks[4]).unwrap();
@@ -385,5 +412,43 @@ mod tests {
             a.dealloc(s, small);
             assert_eq!(with_state(|st| st.top), 0, "current region reset");
         }
+    }
+
+    /// A block is reported dirty only as far as earlier blocks of its region
+    /// reached (the region's memory above that was never handed out), so
+    /// `alloc_zeroed` clears exactly what a freed block may have written.
+    #[test]
+    fn zeroed_blocks_clear_only_reused_memory() {
+        let mut s = State {
+            regions: [Region {
+                map: 0,
+                map_len: 0,
+                base: 0,
+                huge: 0,
+                live: 0,
+            }; MAX_REGIONS],
+            huge_budget: 0,
+            current: None,
+            top: 0,
+            clean: 0,
+        };
+        let l = Layout::from_size_align(100_000, 16).unwrap();
+        let (p, d) = s.alloc(&l).expect("region block");
+        assert_eq!(d, 0);
+        let (q, d) = s.alloc(&l).expect("region block");
+        assert_eq!(d, 0);
+        assert!(s.free(p) && s.free(q));
+        assert_eq!(s.top, 0, "current region reset");
+        let big = Layout::from_size_align(250_000, 16).unwrap();
+        let (r, d) = s.alloc(&big).expect("region block");
+        assert_eq!(r, p);
+        assert_eq!(d, q + 100_000 - p, "dirty up to the end of the old blocks");
+        let (t, d) = s.alloc(&l).expect("region block");
+        assert!(t >= r + 250_000);
+        assert_eq!(d, 0, "past the old blocks: fresh");
+        assert!(s.free(r) && s.free(t));
+        let current = s.current.unwrap();
+        unmap(&s.regions[current]);
+        MAPPED.fetch_sub(1, Ordering::Relaxed);
     }
 }
