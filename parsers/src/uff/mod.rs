@@ -330,9 +330,10 @@ pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
     }
 }
 
-/// Parse a file from a reader, streaming: the file is read in 1 MiB chunks,
-/// cut at dataset boundaries, and finished datasets are parsed on one worker
-/// thread per core while reading goes on; their text is dropped once parsed,
+/// Parse a file from a reader, streaming: the file is read in 256 KiB chunks
+/// (58b data straight into their values), cut at dataset boundaries, and
+/// finished datasets are parsed on worker threads (one per core) while
+/// reading goes on; their text is dropped once parsed,
 /// so memory stays near the size of the decoded data. Gives the same result
 /// (and the same first error, with file line numbers and byte offsets) as
 /// [`parse`] on the whole file. A read error is reported as an [`UffError`]
