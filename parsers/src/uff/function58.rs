@@ -266,10 +266,12 @@ impl Context<'_> {
     }
 }
 
-/// Parses a 58 or 58b block.
+/// Parses a 58 or 58b block; `direct`: its values, when the streaming
+/// reader read its data straight into them ([`direct_storage`]).
 pub(crate) fn parse(
     bytes: &[u8],
     block: &Block,
+    direct: Option<Ordinate>,
     notes: &mut Vec<String>,
 ) -> Result<Function58, UffError> {
     let cx = Context { block };
@@ -303,7 +305,10 @@ pub(crate) fn parse(
         .map_err(|_| at(10, "records 8-11 missing".into()))?;
 
     let (abscissa, ordinate) = match &block.binary {
-        Some(b) => binary_data(bytes, b, &r7, &cx)?,
+        Some(b) => match direct {
+            Some(values) => direct_data(values, b, &r7, &cx)?,
+            None => binary_data(bytes, b, &r7, &cx)?,
+        },
         None => ascii_data(&mut lines, &r7, &cx, notes)?.finish(&r7),
     };
     Ok(Function58 {
@@ -712,6 +717,18 @@ fn binary_data(
     {
         return Ok((abscissa, ordinate));
     }
+    check_finite(abscissa, ordinate, b, n, cx)
+}
+
+/// The abscissa and ordinate if all their values are finite; else the
+/// error naming the first point that is not (its byte offset in the data).
+fn check_finite(
+    abscissa: Abscissa,
+    ordinate: Ordinate,
+    b: &Binary,
+    n: usize,
+    cx: &Context<'_>,
+) -> Result<(Abscissa, Ordinate), UffError> {
     let x: &[f64] = match &abscissa {
         Abscissa::Uneven(x) => x,
         Abscissa::Even { .. } => &[],
@@ -726,7 +743,7 @@ fn binary_data(
             })
         });
     if let Some((i, v, what)) = bad {
-        let point_bytes = data.len() / n.max(1);
+        let point_bytes = b.data.len() / n.max(1);
         return Err(cx.error(
             None,
             b.data.start + i * point_bytes,
@@ -737,6 +754,106 @@ fn binary_data(
         ));
     }
     Ok((abscissa, ordinate))
+}
+
+/// Floating-point storage whose memory may be viewed, and written, as bytes.
+///
+/// # Safety
+/// Implementors are exactly `size_of::<Self>()` bytes of value bits: no
+/// padding, and every bit pattern is a valid value.
+unsafe trait FloatBits: Copy {}
+// SAFETY: IEEE 754 types: no padding, any bits are a value (NaNs included).
+unsafe impl FloatBits for f32 {}
+// SAFETY: as for f32.
+unsafe impl FloatBits for f64 {}
+// Tuples have no guaranteed layout: these pairs are checked, at compile
+// time, to be two fields back to back, `.0` first (the file's order).
+const _: () = {
+    use std::mem::{offset_of, size_of};
+    assert!(size_of::<(f32, f32)>() == 8);
+    assert!(offset_of!((f32, f32), 0) == 0 && offset_of!((f32, f32), 1) == 4);
+    assert!(size_of::<(f64, f64)>() == 16);
+    assert!(offset_of!((f64, f64), 0) == 0 && offset_of!((f64, f64), 1) == 8);
+};
+// SAFETY: two f32 back to back, no padding (checked above).
+unsafe impl FloatBits for (f32, f32) {}
+// SAFETY: two f64 back to back, no padding (checked above).
+unsafe impl FloatBits for (f64, f64) {}
+
+/// The memory of `v` as bytes, to be filled with stored values.
+fn bytes_of_mut<T: FloatBits>(v: &mut [T]) -> &mut [u8] {
+    // SAFETY: the bytes are exactly `v`'s memory (size_of_val), borrowed
+    // mutably for as long as the result; u8 needs no alignment; `T` has no
+    // padding and accepts any bits (FloatBits), so whatever is written
+    // leaves valid values.
+    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
+}
+
+/// The memory of the values of `o` as bytes, in file order (for a complex
+/// ordinate: re, im, re, im, ...).
+fn ordinate_bytes_mut(o: &mut Ordinate) -> &mut [u8] {
+    match o {
+        Ordinate::Real(v) => bytes_of_mut(v),
+        Ordinate::Complex(v) => bytes_of_mut(v),
+        Ordinate::RealSingle(v) => bytes_of_mut(v),
+        Ordinate::ComplexSingle(v) => bytes_of_mut(v),
+    }
+}
+
+/// Zeroed values for the data of a 58b block of an even function (record
+/// 7), as [`binary_data`] would decode them, and their memory as bytes, of
+/// exactly the data's length: the streaming reader reads the data into it.
+/// Zeroed (not uninitialised: `Read` may look at its buffer) with
+/// `alloc_zeroed`, whose fresh pages need no clearing.
+pub(crate) fn direct_storage(r7: &Record7) -> Ordinate {
+    let n = r7.points;
+    match (r7.value_bytes(), r7.is_complex()) {
+        (4, false) => Ordinate::RealSingle(vec![0.0; n]),
+        (4, true) => Ordinate::ComplexSingle(vec![(0.0, 0.0); n]),
+        (_, false) => Ordinate::Real(vec![0.0; n]),
+        (_, true) => Ordinate::Complex(vec![(0.0, 0.0); n]),
+    }
+}
+
+/// The bytes of `o` to read 58b data into (see [`direct_storage`]).
+pub(crate) fn direct_bytes(o: &mut Ordinate) -> &mut [u8] {
+    ordinate_bytes_mut(o)
+}
+
+/// The values of a 58b block of an even function whose data were read, as
+/// stored, into `ordinate` ([`direct_storage`]): put in the host's byte
+/// order and checked as [`binary_data`] does. Same result as
+/// [`binary_data`] on the data bytes.
+fn direct_data(
+    mut ordinate: Ordinate,
+    b: &Binary,
+    r7: &Record7,
+    cx: &Context<'_>,
+) -> Result<(Abscissa, Ordinate), UffError> {
+    let size = r7.value_bytes();
+    let host_le = cfg!(target_endian = "little");
+    let bytes = ordinate_bytes_mut(&mut ordinate);
+    if bytes.len() != b.data.len() || !r7.even {
+        return Err(cx.error(
+            None,
+            b.data.start,
+            "internal error: 58b values do not match their data".into(),
+        ));
+    }
+    if b.little_endian != host_le {
+        for c in bytes.chunks_exact_mut(size) {
+            c.reverse();
+        }
+    }
+    let finite = raw_all_finite(bytes, size, host_le);
+    let abscissa = Abscissa::Even {
+        start: r7.start,
+        step: r7.step,
+    };
+    if finite {
+        return Ok((abscissa, ordinate));
+    }
+    check_finite(abscissa, ordinate, b, r7.points, cx)
 }
 
 #[cfg(test)]

@@ -221,10 +221,18 @@ const PARALLEL_MIN_BYTES: usize = 1 << 20;
 /// One parsed block: the dataset and the notes made while parsing it.
 pub(crate) type BlockResult = Result<(Dataset, Vec<String>), UffError>;
 
-pub(crate) fn parse_block(bytes: &[u8], block: &split::Block) -> BlockResult {
+/// Parses one block of `bytes`; `direct`: the values of a 58b block whose
+/// data the streaming reader read straight into them (`stream`).
+pub(crate) fn parse_block(
+    bytes: &[u8],
+    block: &split::Block,
+    direct: Option<Ordinate>,
+) -> BlockResult {
     let mut notes = block.notes.clone();
     let dataset = if block.number == 58 {
-        Dataset::Function(Box::new(function58::parse(bytes, block, &mut notes)?))
+        Dataset::Function(Box::new(function58::parse(
+            bytes, block, direct, &mut notes,
+        )?))
     } else {
         Dataset::Other(other::parse(bytes, block, &mut notes)?)
     };
@@ -241,7 +249,7 @@ fn parse_blocks(bytes: &[u8], blocks: &[split::Block]) -> Vec<Option<BlockResult
     if threads <= 1 || bytes.len() < PARALLEL_MIN_BYTES {
         let mut out = Vec::with_capacity(blocks.len());
         for b in blocks {
-            let r = parse_block(bytes, b);
+            let r = parse_block(bytes, b, None);
             let failed = r.is_err();
             out.push(Some(r));
             if failed {
@@ -265,7 +273,7 @@ fn parse_blocks(bytes: &[u8], blocks: &[split::Block]) -> Vec<Option<BlockResult
                         if i >= blocks.len() || i > first_error.load(Ordering::Relaxed) {
                             break;
                         }
-                        let r = parse_block(bytes, &blocks[i]);
+                        let r = parse_block(bytes, &blocks[i], None);
                         if r.is_err() {
                             first_error.fetch_min(i, Ordering::Relaxed);
                         }
@@ -322,9 +330,10 @@ pub fn parse(bytes: &[u8]) -> Result<UffFile, UffError> {
     }
 }
 
-/// Parse a file from a reader, streaming: the file is read in 1 MiB chunks,
-/// cut at dataset boundaries, and finished datasets are parsed on one worker
-/// thread per core while reading goes on; their text is dropped once parsed,
+/// Parse a file from a reader, streaming: the file is read in 256 KiB chunks
+/// (58b data straight into their values), cut at dataset boundaries, and
+/// finished datasets are parsed on worker threads (one per core) while
+/// reading goes on; their text is dropped once parsed,
 /// so memory stays near the size of the decoded data. Gives the same result
 /// (and the same first error, with file line numbers and byte offsets) as
 /// [`parse`] on the whole file. A read error is reported as an [`UffError`]

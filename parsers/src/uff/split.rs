@@ -82,6 +82,17 @@ pub(crate) enum Step {
     NeedMore,
     /// No more blocks (the file ended).
     End,
+    /// A 58b dataset whose data (`binary.data`, at least `direct_min` bytes
+    /// beyond the buffer) the caller reads itself, straight into the values'
+    /// memory: from `binary.data.start` on, the buffer's bytes are its data.
+    /// The caller then calls [`Splitter::skip_direct`] and continues with a
+    /// buffer that starts right after the data; the next step is
+    /// [`Step::Closed`] (or an error). Its `close_line` and `close_offset`
+    /// are not known yet.
+    Direct(Block),
+    /// The closing `-1` after the data of the [`Step::Direct`] dataset: its
+    /// line and buffer position (in the buffer after the data).
+    Closed { line: usize, offset: usize },
 }
 
 /// Inner outcome of one block attempt.
@@ -90,6 +101,40 @@ enum Attempt {
     NeedMore,
     /// The file ends right after a `-1` delimiter.
     EndOfFile,
+    Direct(Block, Awaiting),
+}
+
+/// A [`Step::Direct`] dataset whose data the caller reads.
+#[derive(Debug)]
+pub(crate) struct Awaiting {
+    index: usize,
+    number: u32,
+    /// Line of the data, and their start (a file offset once returned).
+    data_line: usize,
+    data_start: usize,
+    /// Bytes of the data (the declared count).
+    len: usize,
+    declared: i64,
+    record7: Record7,
+}
+
+impl Awaiting {
+    /// The error of the whole-file split when `available` bytes follow the
+    /// data start and no closing `-1` follows the declared byte count.
+    fn error(&self, available: usize) -> UffError {
+        let layouts = binary_layouts(&self.record7);
+        data_error(
+            &layouts,
+            &self.record7,
+            self.declared,
+            usize::try_from(self.declared).ok(),
+            available,
+            self.data_line,
+            self.data_start,
+            self.index,
+            self.number,
+        )
+    }
 }
 
 /// Splits a file into dataset blocks, incrementally.
@@ -117,6 +162,11 @@ pub(crate) struct Splitter {
     /// Blocks returned so far.
     blocks: usize,
     finished: bool,
+    /// 58b data of at least this many bytes beyond the buffer are left to
+    /// the caller ([`Step::Direct`]); `None`: never.
+    pub direct_min: Option<usize>,
+    /// The [`Step::Direct`] dataset, until its closing `-1` is found.
+    awaiting: Option<Awaiting>,
 }
 
 impl Default for Splitter {
@@ -129,6 +179,8 @@ impl Default for Splitter {
             base: 0,
             blocks: 0,
             finished: false,
+            direct_min: None,
+            awaiting: None,
         }
     }
 }
@@ -146,12 +198,67 @@ impl Splitter {
         self.base += n;
     }
 
+    /// After [`Step::Direct`]: the caller read the data itself, and its next
+    /// buffer starts right after them, `n` bytes after the current one's
+    /// start.
+    pub fn skip_direct(&mut self, n: usize) {
+        debug_assert!(self.awaiting.is_some() && n >= self.pos);
+        self.base += n;
+        self.pos = 0;
+    }
+
+    /// After [`Step::Direct`]: the file ended `available` bytes into the
+    /// data. The whole-file split's error for that file.
+    pub fn direct_truncated(&mut self, available: usize) -> UffError {
+        self.finished = true;
+        match self.awaiting.take() {
+            Some(a) => a.error(available),
+            None => error(
+                None,
+                self.base,
+                None,
+                None,
+                "internal error: no 58b data pending".into(),
+            ),
+        }
+    }
+
+    /// The closing `-1` after the data of a [`Step::Direct`] dataset.
+    fn closed(&mut self, bytes: &[u8], eof: bool) -> Result<Step, UffError> {
+        let Some(a) = self.awaiting.take() else {
+            return Ok(Step::NeedMore);
+        };
+        match closing_after(bytes, self.pos, eof) {
+            Err(()) => {
+                self.awaiting = Some(a);
+                Ok(Step::NeedMore)
+            }
+            Ok(Some((line_start, after, breaks))) => {
+                self.pos = after;
+                self.number = a.data_line + breaks + 1;
+                self.blocks += 1;
+                Ok(Step::Closed {
+                    line: a.data_line + breaks,
+                    offset: line_start,
+                })
+            }
+            Ok(None) => {
+                // All the declared bytes were read, and no `-1` follows them.
+                self.finished = true;
+                Err(a.error(a.len))
+            }
+        }
+    }
+
     /// The next block of `bytes[pos..]`; `eof` tells whether `bytes` ends
     /// where the file does. Block positions are relative to `bytes`; error
     /// offsets are file offsets.
     pub fn next(&mut self, bytes: &[u8], eof: bool) -> Result<Step, UffError> {
         if self.finished {
             return Ok(Step::End);
+        }
+        if self.awaiting.is_some() {
+            return self.closed(bytes, eof);
         }
         let mut lines = Lines::partial(bytes, self.pos..bytes.len(), self.number, eof);
         loop {
@@ -184,6 +291,13 @@ impl Splitter {
                     return Ok(Step::NeedMore);
                 }
                 Ok(Attempt::EndOfFile) => return self.finish(),
+                Ok(Attempt::Direct(block, mut awaiting)) => {
+                    self.pos = lines.pos;
+                    self.number = lines.number;
+                    awaiting.data_start += self.base;
+                    self.awaiting = Some(awaiting);
+                    return Ok(Step::Direct(block));
+                }
                 Err(mut e) => {
                     self.finished = true;
                     e.byte_offset += self.base;
@@ -256,11 +370,14 @@ impl Splitter {
                 ),
             ));
         };
-        let block = if binary {
-            binary_block(bytes, lines, number_line, index, number, eof)?
-        } else {
-            text_block(lines, number_line, index, number)?
-        };
+        if binary {
+            let direct_min = self.direct_min;
+            return Ok(
+                binary_block(bytes, lines, number_line, index, number, eof, direct_min)?
+                    .unwrap_or(Attempt::NeedMore),
+            );
+        }
+        let block = text_block(lines, number_line, index, number)?;
         Ok(block.map_or(Attempt::NeedMore, Attempt::Block))
     }
 }
@@ -281,8 +398,11 @@ pub(crate) fn split(bytes: &[u8]) -> (Split, Option<UffError>) {
     let failure = loop {
         match splitter.next(bytes, true) {
             Ok(Step::Block(b)) => blocks.push(b),
-            // With eof, the splitter never needs more bytes.
-            Ok(Step::End) | Ok(Step::NeedMore) => break None,
+            // With eof, the splitter never needs more bytes; without
+            // `direct_min`, it reads every data section itself.
+            Ok(Step::End) | Ok(Step::NeedMore) | Ok(Step::Direct(_)) | Ok(Step::Closed { .. }) => {
+                break None
+            }
             Err(e) => break Some(e),
         }
     };
@@ -404,8 +524,61 @@ macro_rules! need {
     };
 }
 
+/// Largest 58b data section read straight into its values (allocated whole
+/// before they arrive); larger ones grow the buffer as they are read, so a
+/// header that declares more than the file holds costs no more memory than
+/// the file.
+const DIRECT_MAX: usize = 64 << 20;
+
+/// The error when no byte count fits the data of a 58b dataset: truncated
+/// (`available` bytes follow the data start) or wrong byte count.
+#[allow(clippy::too_many_arguments)]
+fn data_error(
+    layouts: &[(Option<usize>, usize)],
+    record7: &Record7,
+    declared: i64,
+    declared_ok: Option<usize>,
+    available: usize,
+    data_line: usize,
+    data_start: usize,
+    index: usize,
+    number: u32,
+) -> UffError {
+    let expected: Vec<String> = layouts
+        .iter()
+        .filter_map(|(b, _)| b.map(|b| b.to_string()))
+        .collect();
+    let message = if declared_ok.is_some_and(|d| d > available)
+        || layouts.iter().all(|(b, _)| b.is_none_or(|b| b > available))
+    {
+        format!(
+            "58b data truncated: header declares {declared} bytes and record 7 ({} points, ordinate type {}) needs {} bytes, but only {available} bytes follow",
+            record7.points,
+            record7.ordinate_type,
+            expected.join(" or ")
+        )
+    } else {
+        format!(
+            "wrong byte count in 58b: header declares {declared} bytes, record 7 ({} points, ordinate type {}) needs {} bytes, and no closing -1 follows either",
+            record7.points,
+            record7.ordinate_type,
+            expected.join(" or ")
+        )
+    };
+    error(
+        Some(data_line),
+        data_start,
+        Some(index),
+        Some(number),
+        message,
+    )
+}
+
 /// A 58b dataset: header fields, ASCII records, then the binary data.
 /// `Ok(None)`: the buffer ends (not at `eof`) before the block is decided.
+/// With `direct_min`, data of an even function that match the declared
+/// byte count and extend at least that far beyond the buffer are left to
+/// the caller ([`Attempt::Direct`]).
 fn binary_block(
     bytes: &[u8],
     lines: &mut Lines<'_>,
@@ -413,7 +586,8 @@ fn binary_block(
     index: usize,
     number: u32,
     eof: bool,
-) -> Result<Option<Block>, UffError> {
+    direct_min: Option<usize>,
+) -> Result<Option<Attempt>, UffError> {
     let err = |line: Option<usize>, offset: usize, message: String| {
         error(line, offset, Some(index), Some(number), message)
     };
@@ -514,6 +688,38 @@ fn binary_block(
     let mut note = None;
     // `None` from here on: more bytes are needed to decide.
     let closing = |pos: usize| closing_after(bytes, pos, eof).ok();
+    if let (Some(&(Some(len), abscissa)), Some(min)) = (matches_declared, direct_min) {
+        // An even function has one layout: the declared count is the data's
+        // length, whatever follows (the closing `-1` is checked after them).
+        if record7.even && !eof && len > available && len - available >= min && len <= DIRECT_MAX {
+            let block = Block {
+                index,
+                number,
+                line: number_line.number,
+                start: number_line.start,
+                text: text_start..text_end,
+                close_line: data_line,
+                close_offset: data_start + len,
+                binary: Some(Binary {
+                    little_endian,
+                    data: data_start..data_start + len,
+                    abscissa_bytes: abscissa,
+                    record7: record7.clone(),
+                }),
+                notes: Vec::new(),
+            };
+            let awaiting = Awaiting {
+                index,
+                number,
+                data_line,
+                data_start,
+                len,
+                declared,
+                record7,
+            };
+            return Ok(Some(Attempt::Direct(block, awaiting)));
+        }
+    }
     if let Some(&(Some(len), abscissa)) = matches_declared {
         if len <= available {
             if let Some(close) = need!(closing(data_start + len)) {
@@ -575,32 +781,21 @@ fn binary_block(
         }
     }
     let Some((len, abscissa_bytes, (close_offset, after, breaks))) = chosen else {
-        let expected: Vec<String> = layouts
-            .iter()
-            .filter_map(|(b, _)| b.map(|b| b.to_string()))
-            .collect();
-        let message = if declared_ok.is_some_and(|d| d > available)
-            || layouts.iter().all(|(b, _)| b.is_none_or(|b| b > available))
-        {
-            format!(
-                "58b data truncated: header declares {declared} bytes and record 7 ({} points, ordinate type {}) needs {} bytes, but only {available} bytes follow",
-                record7.points,
-                record7.ordinate_type,
-                expected.join(" or ")
-            )
-        } else {
-            format!(
-                "wrong byte count in 58b: header declares {declared} bytes, record 7 ({} points, ordinate type {}) needs {} bytes, and no closing -1 follows either",
-                record7.points,
-                record7.ordinate_type,
-                expected.join(" or ")
-            )
-        };
-        return Err(err(Some(data_line), data_start, message));
+        return Err(data_error(
+            &layouts,
+            &record7,
+            declared,
+            declared_ok,
+            available,
+            data_line,
+            data_start,
+            index,
+            number,
+        ));
     };
     lines.pos = after;
     lines.number = data_line + breaks + 1;
-    Ok(Some(Block {
+    Ok(Some(Attempt::Block(Block {
         index,
         number,
         line: number_line.number,
@@ -615,5 +810,5 @@ fn binary_block(
             record7,
         }),
         notes: note.into_iter().collect(),
-    }))
+    })))
 }
