@@ -74,19 +74,7 @@ struct Shared(UnsafeCell<State>);
 // SAFETY: every access goes through `with_state`, which holds `LOCK`.
 unsafe impl Sync for Shared {}
 
-static STATE: Shared = Shared(UnsafeCell::new(State {
-    regions: [Region {
-        map: 0,
-        map_len: 0,
-        base: 0,
-        huge: 0,
-        live: 0,
-    }; MAX_REGIONS],
-    huge_budget: usize::MAX,
-    current: None,
-    top: 0,
-    clean: 0,
-}));
+static STATE: Shared = Shared(UnsafeCell::new(State::empty(usize::MAX)));
 
 fn with_state<R>(f: impl FnOnce(&mut State) -> R) -> R {
     while LOCK
@@ -183,6 +171,23 @@ fn unmap(r: &Region) {
 }
 
 impl State {
+    /// No region mapped; `huge_budget` bytes may be advised for huge pages.
+    const fn empty(huge_budget: usize) -> State {
+        State {
+            regions: [Region {
+                map: 0,
+                map_len: 0,
+                base: 0,
+                huge: 0,
+                live: 0,
+            }; MAX_REGIONS],
+            huge_budget,
+            current: None,
+            top: 0,
+            clean: 0,
+        }
+    }
+
     /// A block and how many of its first bytes may be dirty (handed out
     /// before): the rest are still zero.
     fn bump(&mut self, layout: &Layout) -> Option<(usize, usize)> {
@@ -342,19 +347,7 @@ mod tests {
     /// later region gets what is left of the budget.
     #[test]
     fn huge_pages_only_as_far_as_expected() {
-        let mut s = State {
-            regions: [Region {
-                map: 0,
-                map_len: 0,
-                base: 0,
-                huge: 0,
-                live: 0,
-            }; MAX_REGIONS],
-            huge_budget: 3 * HUGE_PAGE + HUGE_PAGE / 2,
-            current: None,
-            top: 0,
-            clean: 0,
-        };
+        let mut s = State::empty(3 * HUGE_PAGE + HUGE_PAGE / 2);
         let block = Layout::from_size_align(MAX_BLOCK, 16).unwrap();
         let mut blocks = Vec::new();
         // 64 MiB regions of 16 MiB blocks: the fifth block opens a second region.
@@ -419,19 +412,7 @@ mod tests {
     /// `alloc_zeroed` clears exactly what a freed block may have written.
     #[test]
     fn zeroed_blocks_clear_only_reused_memory() {
-        let mut s = State {
-            regions: [Region {
-                map: 0,
-                map_len: 0,
-                base: 0,
-                huge: 0,
-                live: 0,
-            }; MAX_REGIONS],
-            huge_budget: 0,
-            current: None,
-            top: 0,
-            clean: 0,
-        };
+        let mut s = State::empty(0);
         let l = Layout::from_size_align(100_000, 16).unwrap();
         let (p, d) = s.alloc(&l).expect("region block");
         assert_eq!(d, 0);
