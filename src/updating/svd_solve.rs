@@ -120,10 +120,8 @@ pub fn solve_gap_rule(
     } else {
         a
     };
-    let svd = a_eff.thin_svd().map_err(|_| SvdSolveError::NoConvergence)?;
-    let s: Vec<f64> = svd.S().column_vector().iter().copied().collect();
-    let u = svd.U();
-    let v = svd.V();
+    let ThinSvd { s, u, v } = thin_svd(a_eff)?;
+    let (u, v) = (u.as_ref(), v.as_ref());
     let rank = gap_rank(&s, eps);
     let mut step = vec![0.0; n];
     for k in 0..rank {
@@ -151,6 +149,50 @@ pub fn solve_gap_rule(
     })
 }
 
+/// A = U Σ Vᵀ, thin, on the calling thread: the updating equations are small
+/// (hundreds of rows, tens of columns), where handing work to the thread pool
+/// costs more than it saves (faer's `thin_svd` uses the global pool).
+fn thin_svd(a: MatRef<'_, f64>) -> Result<ThinSvd, SvdSolveError> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
+    let (m, n) = a.shape();
+    let size = m.min(n);
+    let mut s = faer::diag::Diag::<f64>::zeros(size);
+    let mut u = Mat::<f64>::zeros(m, size);
+    let mut v = Mat::<f64>::zeros(n, size);
+    let par = faer::Par::Seq;
+    let mut mem = MemBuffer::new(svd_scratch::<f64>(
+        m,
+        n,
+        ComputeSvdVectors::Thin,
+        ComputeSvdVectors::Thin,
+        par,
+        Default::default(),
+    ));
+    svd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .map_err(|_| SvdSolveError::NoConvergence)?;
+    Ok(ThinSvd {
+        s: s.column_vector().iter().copied().collect(),
+        u,
+        v,
+    })
+}
+
+/// A = U diag(s) Vᵀ with min(M, N) columns in U and V, s non-increasing.
+struct ThinSvd {
+    s: Vec<f64>,
+    u: Mat<f64>,
+    v: Mat<f64>,
+}
+
 /// Flip a vector so that its largest-magnitude entry is positive (deterministic signs).
 pub(crate) fn canonical_sign(v: &mut [f64]) {
     let mut best = 0.0f64;
@@ -176,10 +218,9 @@ pub fn truncated_pseudo_inverse(
     if (0..n).any(|j| (0..m).any(|i| !a[(i, j)].is_finite())) {
         return Err(SvdSolveError::NonFinite);
     }
-    let svd = a.thin_svd().map_err(|_| SvdSolveError::NoConvergence)?;
-    let s = svd.S().column_vector();
-    let (u, v) = (svd.U(), svd.V());
-    let r = rank.min(s.nrows());
+    let ThinSvd { s, u, v } = thin_svd(a)?;
+    let (u, v) = (u.as_ref(), v.as_ref());
+    let r = rank.min(s.len());
     let mut out = Mat::<f64>::zeros(n, m);
     for k in 0..r {
         if !(s[k] > 0.0) {
