@@ -17,6 +17,7 @@ fn opts(count: usize, dense: bool, fixed: bool) -> EigenOptions {
     EigenOptions {
         count,
         dense_limit: if dense { usize::MAX } else { 0 },
+        krylov_dofs_per_mode: 0,
         expect_no_rigid_body_modes: fixed,
     }
 }
@@ -296,4 +297,96 @@ fn clustered_spectrum_auto_shift_matches_dense() {
     for j in 0..30 {
         assert!((d.omega2[j] - f.omega2[j]).abs() / d.omega2[j] < 1e-10);
     }
+}
+
+/// With default options the path follows the model size and the count: a
+/// 1,500-DOF chain wanting 20 modes (75 DOFs per mode) takes the Krylov path,
+/// 100 modes of it (15 per mode) and 20 of a 900-DOF chain (below
+/// `KRYLOV_MIN_DOFS`) the dense one. Either way ω² match the closed form to
+/// 1e-10 relative, as on the 300-DOF chain above.
+#[test]
+fn few_modes_of_a_mid_size_model_take_the_krylov_path() {
+    let (k, m) = (1.0e4, 0.5);
+    for (n, count, path) in [
+        (1500, 20, EigenPath::Sparse),
+        (1500, 100, EigenPath::Dense),
+        (900, 20, EigenPath::Dense),
+    ] {
+        let (kk, mm) = chain(n, k, m, true);
+        let options = EigenOptions {
+            count,
+            expect_no_rigid_body_modes: true,
+            ..EigenOptions::default()
+        };
+        let (modes, report) =
+            lowest_modes_with(&kk, &mm, &options, &EigenTuning::default()).unwrap();
+        assert_eq!(report.path, path, "n = {n}, {count} modes");
+        for j in 0..count {
+            let exact = fixed_free_omega(n, k, m, j + 1).powi(2);
+            let rel = (modes.omega2[j] - exact).abs() / exact;
+            assert!(rel < 1e-10, "n = {n} mode {j}: {rel:e}");
+        }
+        assert!(mass_orthonormality_error(&mm, &modes.shapes) < 1e-9);
+    }
+}
+
+/// The GARTEUR-like deck has short, stiff elements with little rotary inertia:
+/// its largest K_ii/M_ii is ~4e5 times the median. The sparse path's σ₀ is then
+/// −1e-4·median, not −1e-8·max (which is far below the first elastic ω² and
+/// makes all μ = 1/(ω² − σ) alike): the same 39 modes (to 1e-9 of ω²₃₉) with
+/// at most 80 % of the operator applications that σ = −1e-8·max needs (136
+/// against 176 when this was written).
+#[test]
+fn free_free_sparse_shift_starts_near_the_spectrum() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/fixtures/garteur/garteur.deck"
+    ))
+    .unwrap();
+    let deck = frfup::parsers::deck::parse(&text).unwrap();
+    let fe = frfup::model::build(&deck, &Default::default()).unwrap();
+    let (kk, mm) = (&fe.stiffness, &fe.mass);
+    let n = kk.nrows();
+    let diag = |a: &frfup::model::SparseMatrix, i: usize| {
+        let rows = a.symbolic().row_idx_of_col_raw(i);
+        rows.iter()
+            .zip(a.val_of_col(i))
+            .filter(|(r, _)| **r == i)
+            .map(|(_, v)| *v)
+            .sum::<f64>()
+    };
+    let mut ratios: Vec<f64> = (0..n).map(|i| diag(kk, i) / diag(mm, i)).collect();
+    ratios.sort_by(f64::total_cmp);
+    let (max, median) = (ratios[n - 1], ratios[n / 2]);
+    assert!(max > 1e4 * median, "max/median = {:e}", max / median);
+
+    let (auto, report) =
+        lowest_modes_with(kk, mm, &opts(39, false, false), &EigenTuning::default()).unwrap();
+    assert_eq!(report.path, EigenPath::Sparse);
+    assert!(
+        (report.initial_shift + 1e-4 * median).abs() <= 1e-12 * 1e-4 * median,
+        "σ₀ = {:e}, −1e-4·median = {:e}",
+        report.initial_shift,
+        -1e-4 * median
+    );
+    let far = EigenTuning {
+        shift: Some(-1e-8 * max),
+        ..EigenTuning::default()
+    };
+    let (reference, far_report) = lowest_modes_with(kk, mm, &opts(39, false, false), &far).unwrap();
+    let top = reference.omega2[38];
+    for j in 0..39 {
+        assert!(
+            (auto.omega2[j] - reference.omega2[j]).abs() <= 1e-9 * top,
+            "mode {j}: {} vs {}",
+            auto.omega2[j],
+            reference.omega2[j]
+        );
+    }
+    assert!(
+        5 * report.operator_applications <= 4 * far_report.operator_applications,
+        "{} applications from σ₀, {} from −1e-8·max",
+        report.operator_applications,
+        far_report.operator_applications
+    );
 }

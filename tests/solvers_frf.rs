@@ -37,6 +37,7 @@ fn all_modes(
         &EigenOptions {
             count: n,
             dense_limit: n,
+            krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: false,
         },
     )
@@ -139,6 +140,7 @@ fn residual_improves_truncated_superposition() {
         &EigenOptions {
             count: 6,
             dense_limit: 0,
+            krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: true,
         },
     )

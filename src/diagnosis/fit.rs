@@ -99,8 +99,8 @@ pub fn modal_model(deck: &Deck, data: &TestData) -> Result<ModalModel, DiagnoseE
     let modes: Modes = loop {
         let opts = EigenOptions {
             count,
-            dense_limit: 2500,
             expect_no_rigid_body_modes: fe.has_fixed_dofs,
+            ..EigenOptions::default()
         };
         let modes = eigen::lowest_modes(&fe.stiffness, &fe.mass, &opts)
             .map_err(|e| DiagnoseError::Eigen(e.to_string()))?;

@@ -292,7 +292,7 @@ fn modal_damping_receptance(
         let opts = EigenOptions {
             count: n,
             dense_limit,
-            expect_no_rigid_body_modes: false,
+            ..EigenOptions::default()
         };
         let modes = eigen::lowest_modes(k, m, &opts)?;
         return try_modal_receptance(&modes, damping, omegas_rad_s, input, outputs, None);
@@ -303,7 +303,7 @@ fn modal_damping_receptance(
         let opts = EigenOptions {
             count,
             dense_limit,
-            expect_no_rigid_body_modes: false,
+            ..EigenOptions::default()
         };
         let modes = eigen::lowest_modes(k, m, &opts)?;
         let top = modes.omega2.last().copied().unwrap_or(0.0);

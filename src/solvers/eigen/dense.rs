@@ -173,7 +173,7 @@ fn shift_invert_in_order(
     lap("cholesky");
     let c = reduce(l.as_ref(), m, &envelope, par);
     lap("reduction");
-    let (mut y, _) = largest_eigenvectors(c, count, par, true)?;
+    let (_, mut y, _) = largest_eigenpairs(c, count, par, SUBSET_BELOW)?;
     lap("evd");
     back_substitute(l.as_ref(), &envelope, y.as_mut(), par);
     lap("back-substitution");
@@ -391,15 +391,16 @@ fn reduce(l: MatRef<'_, f64>, m: &SparseMatrix, envelope: &Envelope, par: Par) -
 /// full decomposition for `modes` of all of them).
 const SUBSET_BELOW: usize = 4;
 
-/// Eigenvectors of the `count` largest eigenvalues of the symmetric C,
-/// largest first (C's lower triangle is read and overwritten), and whether
-/// the subset path produced them (`allow_subset` false: never).
-fn largest_eigenvectors(
+/// The `count` largest eigenvalues of the symmetric C, largest first, their
+/// orthonormal eigenvectors (C's lower triangle is read and overwritten), and
+/// whether the subset path produced them: bisection and inverse iteration on
+/// the tridiagonal form when count · `subset_below` ≤ n and n ≥ 32 (0: never).
+pub(crate) fn largest_eigenpairs(
     mut c: Mat<f64>,
     count: usize,
     par: Par,
-    allow_subset: bool,
-) -> Result<(Mat<f64>, bool), EigenError> {
+    subset_below: usize,
+) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
     let n = c.nrows();
     let block = recommended_block_size::<f64>(n, n);
     let mut householder = Mat::<f64>::zeros(block, n.saturating_sub(1));
@@ -425,17 +426,17 @@ fn largest_eigenvectors(
     // A few of many: bisection and inverse iteration on T (O(n·count²) at
     // most) instead of all n eigenvectors of T; a full decomposition if its
     // checks fail.
-    let subset = if allow_subset && count * SUBSET_BELOW <= n && n >= 32 {
+    let subset = if subset_below > 0 && count * subset_below <= n && n >= 32 {
         let d: Vec<f64> = diag.iter().copied().collect();
         let e: Vec<f64> = subdiag.iter().copied().collect();
         tridiagonal::largest_pairs(&d, &e, count)
-            .map(|(_, vecs)| Mat::from_fn(n, count, |i, j| vecs[j][i]))
+            .map(|(values, vecs)| (values, Mat::from_fn(n, count, |i, j| vecs[j][i])))
     } else {
         None
     };
     let used_subset = subset.is_some();
-    let mut z = match subset {
-        Some(z) => z,
+    let (values, mut z) = match subset {
+        Some(pairs) => pairs,
         None => {
             let mut mu = Col::<f64>::zeros(n);
             let mut z = Mat::<f64>::zeros(n, n);
@@ -456,7 +457,7 @@ fn largest_eigenvectors(
                 faer::perm::swap_cols_idx(z.as_mut(), j, n - 1 - j);
             }
             z.truncate(n, count);
-            z
+            ((0..count).map(|j| mu[n - 1 - j]).collect(), z)
         }
     };
     if n > 1 {
@@ -469,7 +470,7 @@ fn largest_eigenvectors(
             MemStack::new(&mut mem),
         );
     }
-    Ok((z, used_subset))
+    Ok((values, z, used_subset))
 }
 
 /// y ← L⁻ᵀ y.
@@ -624,10 +625,15 @@ mod tests {
         let envelope = Envelope::of(&k, &m);
         let l = envelope_cholesky(&k, &m, -1e-3, &envelope, Par::Seq).unwrap();
         let c = reduce(l.as_ref(), &m, &envelope, Par::Seq);
-        let (some, subset) = largest_eigenvectors(c.clone(), 12, Par::Seq, true).unwrap();
+        let (mu_some, some, subset) =
+            largest_eigenpairs(c.clone(), 12, Par::Seq, SUBSET_BELOW).unwrap();
         assert!(subset, "12 of 200: the subset path, and its checks passed");
-        let (all, full) = largest_eigenvectors(c, 12, Par::Seq, false).unwrap();
+        let (mu_all, all, full) = largest_eigenpairs(c, 12, Par::Seq, 0).unwrap();
         assert!(!full);
+        for (a, b) in mu_some.iter().zip(&mu_all) {
+            // Bisection to a few ulps of ‖C‖ against the QR algorithm.
+            assert!((a - b).abs() <= 1e-13 * mu_all[0], "μ {a:e} vs {b:e}");
+        }
         for j in 0..12 {
             let dot: f64 = some
                 .col(j)
