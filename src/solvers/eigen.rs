@@ -340,6 +340,10 @@ pub fn lowest_modes_with(
     Ok((modes, report))
 }
 
+/// Below this many stored entries of K and M times modes, [`finish`] stays on
+/// the calling thread.
+const PARALLEL_FINISH_WORK: usize = 1 << 20;
+
 /// Mass-normalises Φ, sets ω² to the Rayleigh quotients, sorts ascending, and
 /// records the largest residual ‖Kφ − ω²Mφ‖ / (s_max ‖Mφ‖).
 ///
@@ -355,30 +359,38 @@ fn finish(
     let count = phi.ncols();
     let mut omega2 = vec![0.0; count];
     let mut residuals = vec![0.0; count];
-    let threads = sparse_ops::par().degree().max(1);
-    let per_thread = count
-        .div_ceil(threads)
-        .next_multiple_of(MODE_BLOCK)
-        .max(MODE_BLOCK);
-    std::thread::scope(|scope| {
-        let mut rest = phi.as_mut();
-        let chunks = omega2
-            .chunks_mut(per_thread)
-            .zip(residuals.chunks_mut(per_thread));
-        for (w2, res) in chunks {
-            let (mine, others) = rest.split_at_col_mut(w2.len());
-            rest = others;
-            scope.spawn(move || {
-                let mut block = ModeBlock::new(mine.nrows());
-                let mut mine = mine;
-                let pieces = w2.chunks_mut(MODE_BLOCK).zip(res.chunks_mut(MODE_BLOCK));
-                for (b, (w2, res)) in pieces.enumerate() {
-                    let cols = mine.rb_mut().subcols_mut(b * MODE_BLOCK, w2.len());
-                    block.normalise(k, m, cols, w2, res, scale.max_ratio);
-                }
-            });
+    let normalise = |mine: faer::MatMut<'_, f64>, w2: &mut [f64], res: &mut [f64]| {
+        let mut block = ModeBlock::new(mine.nrows());
+        let mut mine = mine;
+        let pieces = w2.chunks_mut(MODE_BLOCK).zip(res.chunks_mut(MODE_BLOCK));
+        for (b, (w2, res)) in pieces.enumerate() {
+            let cols = mine.rb_mut().subcols_mut(b * MODE_BLOCK, w2.len());
+            block.normalise(k, m, cols, w2, res, scale.max_ratio);
         }
-    });
+    };
+    // Two sparse products per mode: below about a millisecond of work a
+    // thread start costs more than it saves (39 modes of 336 DOFs: ~0.5 Mflop).
+    let work = count * (k.val().len() + m.val().len());
+    if work < PARALLEL_FINISH_WORK {
+        normalise(phi.as_mut(), &mut omega2, &mut residuals);
+    } else {
+        let threads = sparse_ops::par().degree().max(1);
+        let per_thread = count
+            .div_ceil(threads)
+            .next_multiple_of(MODE_BLOCK)
+            .max(MODE_BLOCK);
+        std::thread::scope(|scope| {
+            let mut rest = phi.as_mut();
+            let chunks = omega2
+                .chunks_mut(per_thread)
+                .zip(residuals.chunks_mut(per_thread));
+            for (w2, res) in chunks {
+                let (mine, others) = rest.split_at_col_mut(w2.len());
+                rest = others;
+                scope.spawn(move || normalise(mine, w2, res));
+            }
+        });
+    }
     report.max_residual = residuals.iter().copied().fold(0.0, f64::max);
     if omega2.is_sorted_by(|a, b| a.total_cmp(b).is_le()) {
         return Modes {
