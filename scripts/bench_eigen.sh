@@ -4,10 +4,14 @@
 # (c) SciPy eigsh shift-invert on the same K, M, in the same run, once with
 #     the initial σ₀ ≈ 0 frfup starts from (how a caller asks for the lowest
 #     modes; the headline ratio) and once with the σ frfup's probe moved to
-#     (SciPy handed frfup's shift for free; the conservative ratio).
+#     (SciPy handed frfup's shift for free; the conservative ratio);
+# (d) a mid-size model wanting few modes (2,400-DOF lattice, 10 and 40
+#     modes): the dense path against the Krylov path frfup now takes there,
+#     and SciPy eigsh at σ₀.
 #
 # Usage: scripts/bench_eigen.sh [WORKDIR]   (default /tmp/frfup-bench)
-# Env: LATTICES (default "plate cube"), PEER_SHIFTS (default "initial final").
+# Env: LATTICES (default "plate cube"), PEER_SHIFTS (default "initial final"),
+#      MID (default 1; 0 skips (d)).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-/tmp/frfup-bench}"
@@ -38,4 +42,20 @@ print(f"# {a['deck']}: frfup {a['eigen_s']:.2f} s (peak RSS {a['peak_rss_mb']:.0
       f"{b['scipy_s'] / a['eigen_s']:.1f}x; max rel. diff in ω² {b['max_rel_diff_omega2_vs_frfup']:.1e}")
 PY
   done
+done
+[ "${MID:-1}" = 0 ] && exit 0
+[ -f "$work/mid.deck" ] || python3 "$gen" plate 20 > "$work/mid.deck"
+for count in 10 40; do
+  echo "# (d) mid-size model, $count modes: dense path, Krylov path, SciPy eigsh at sigma0"
+  dense=$("$bin" "$work/mid.deck" --count "$count" --dense --repeat 3)
+  krylov=$("$bin" "$work/mid.deck" --count "$count" --repeat 3 --export "$work/mid")
+  ref=$(python3 "$here/scripts/bench_eigen_scipy.py" "$work/mid" "$count" initial)
+  python3 - "$dense" "$krylov" "$ref" <<'PY'
+import json, sys
+d, k, s = (json.loads(x) for x in sys.argv[1:4])
+print(f"# {k['deck']} ({k['n']} DOF), {k['count']} modes, best of 3: dense {d['eigen_s'] * 1e3:.1f} ms, "
+      f"Krylov {k['eigen_s'] * 1e3:.1f} ms ({d['eigen_s'] / k['eigen_s']:.0f}x), "
+      f"SciPy eigsh {s['scipy_s'] * 1e3:.1f} ms ({s['scipy_s'] / k['eigen_s']:.1f}x); "
+      f"max rel. diff in ω² vs SciPy {s['max_rel_diff_omega2_vs_frfup']:.1e}")
+PY
 done

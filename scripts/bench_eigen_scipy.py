@@ -4,8 +4,8 @@ the K.mtx / M.mtx exported by `bench_eigen --export DIR`.
 
 σ: `initial` (default) is DIR/shift0.txt, the σ₀ ≈ 0 below the spectrum that
 frfup itself starts from, i.e. what a caller asking for the lowest modes
-passes (SciPy's documented sigma=0 for modes near zero, here −1e-8·max
-K_ii/M_ii); `final` is DIR/shift.txt, the shift frfup's probe moved to just
+passes (SciPy's documented sigma=0 for modes near zero, here
+−min(1e-8·max, 1e-4·median) of K_ii/M_ii); `final` is DIR/shift.txt, the shift frfup's probe moved to just
 below the lowest ω², which hands SciPy the result of frfup's extra
 factorisation for free.
 

@@ -11,7 +11,8 @@ Each iteration: K = K0 + sum_j pbar_j dK_j (stiffness parameters are linear in
 their property), dense scipy.linalg.eigh for the lowest modes, SEREP basis by
 ordered Gram-Schmidt on the measured partition, H = Psi_m diag(1/(lam - w^2))
 Psi_m^T, A_i = H * Psi_m^+T * (Psi^T dZ_j Psi) * Psi_m^+ * hbar_i, b_i = h_n - hbar,
-SVD gap rule, Eq. 29 composition, same stopping rules as frfup.
+SVD gap rule, frfup's damped least squares (--damping), Eq. 29 composition,
+same stopping rules as frfup.
 
 Usage: peer_update.py EXPORT_DIR [--repeat N]   prints JSON
 """
@@ -40,6 +41,20 @@ def load_sparse(d, name, n):
     return scipy.sparse.csc_matrix((v, (r, c)), shape=(n, n))
 
 
+def gap_solve(A, b, eps):
+    """p = V1 S1^-1 U1^T b with the gap rule (Eq. 40-41); returns p and all s."""
+    U, s, Vt = np.linalg.svd(A, full_matrices=False)
+    rank = len(s)
+    for k in range(len(s)):
+        if s[k] < s[0] * 1e-13:
+            rank = k
+            break
+        if k + 1 < len(s) and s[k + 1] < eps * s[k]:
+            rank = k + 1
+            break
+    return Vt[:rank].T @ ((U[:, :rank].T @ b) / s[:rank]), s
+
+
 def run(d):
     prob = json.load(open(os.path.join(d, "problem.json")))
     n = prob["n"]
@@ -57,6 +72,8 @@ def run(d):
     eps, tol, max_iter = prob["svd_eps"], prob["tol"], prob["max_iter"]
     btol, pmax = prob["basis_tolerance"], prob["max_parameter"]
 
+    damping = prob.get("damping", 0.0)
+    damping_scale = 1.0
     pbar = np.zeros(npar)
     step = np.zeros(npar)
     records = []
@@ -115,16 +132,18 @@ def run(d):
             break
         A = np.vstack(A_blocks)
         b = np.concatenate(b_blocks)
-        U, s, Vt = np.linalg.svd(A, full_matrices=False)
-        rank = len(s)
-        for k in range(len(s)):
-            if s[k] < s[0] * 1e-13:
-                rank = k
-                break
-            if k + 1 < len(s) and s[k + 1] < eps * s[k]:
-                rank = k + 1
-                break
-        p = Vt[:rank].T @ ((U[:, :rank].T @ b) / s[:rank])
+        p, s = gap_solve(A, b, eps)
+        # Damped least squares (frfup's --damping): rows mu I, mu = damping
+        # * sigma_1, the damping scale halved after a step that raised the
+        # mean SFDAC and quadrupled after one that lowered it.
+        if it > 0:
+            if records[it]["sfdac_mean"] >= records[it - 1]["sfdac_mean"]:
+                damping_scale = max(damping_scale * 0.5, 0.01)
+            else:
+                damping_scale = min(damping_scale * 4.0, 16.0)
+        mu = damping_scale * damping * s[0]
+        if mu > 0:
+            p, _ = gap_solve(np.vstack([A, mu * np.eye(npar)]), np.concatenate([b, np.zeros(npar)]), eps)
         if np.any(1 + p <= 0):
             scale = 1.0
             while np.any(1 + scale * p < 0.1) and scale > 1e-12:
