@@ -7,11 +7,12 @@
 #     (SciPy handed frfup's shift for free; the conservative ratio);
 # (d) a mid-size model wanting few modes (2,400-DOF lattice, 10 and 40
 #     modes): the dense path against the Krylov path frfup now takes there,
-#     and SciPy eigsh at σ₀.
+#     and SciPy eigsh at σ₀;
+# (e) many modes: 300 of a 5,400-DOF lattice, frfup against SciPy eigsh at σ₀.
 #
 # Usage: scripts/bench_eigen.sh [WORKDIR]   (default /tmp/frfup-bench)
 # Env: LATTICES (default "plate cube"), PEER_SHIFTS (default "initial final"),
-#      MID (default 1; 0 skips (d)).
+#      MID (default 1; 0 skips (d) and (e)).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-/tmp/frfup-bench}"
@@ -59,3 +60,15 @@ print(f"# {k['deck']} ({k['n']} DOF), {k['count']} modes, best of 3: dense {d['e
       f"max rel. diff in ω² vs SciPy {s['max_rel_diff_omega2_vs_frfup']:.1e}")
 PY
 done
+[ -f "$work/mid30.deck" ] || python3 "$gen" plate 30 > "$work/mid30.deck"
+echo "# (e) many modes: 300 of a 5,400-DOF lattice, frfup vs SciPy eigsh at sigma0"
+many=$("$bin" "$work/mid30.deck" --count 300 --export "$work/mid30")
+ref=$(python3 "$here/scripts/bench_eigen_scipy.py" "$work/mid30" 300 initial)
+python3 - "$many" "$ref" <<'PY'
+import json, sys
+k, s = (json.loads(x) for x in sys.argv[1:3])
+print(f"# {k['deck']} ({k['n']} DOF), {k['count']} modes: frfup {k['eigen_s']:.2f} s "
+      f"({k['applications']} applications, {k['restarts']} restarts, max residual {k['max_residual']:.1e}), "
+      f"SciPy eigsh {s['scipy_s']:.2f} s ({s['scipy_s'] / k['eigen_s']:.1f}x); "
+      f"max rel. diff in ω² vs SciPy {s['max_rel_diff_omega2_vs_frfup']:.1e}")
+PY

@@ -49,10 +49,14 @@ impl Modes {
 /// wanting 40 modes: dense 8 ms, Krylov 19 ms with five restarts).
 pub const KRYLOV_MIN_DOFS: usize = 1000;
 
+/// Restarts the Krylov path may take on a model below `dense_limit` before
+/// the dense path takes over (a 1,176-DOF lattice wanting 100 modes needs 4).
+const FEW_MODES_MAX_RESTARTS: usize = 20;
+
 /// Default of [`EigenOptions::krylov_dofs_per_mode`]. Measured (one thread):
 /// 2,400-DOF plate lattice, 10 modes: dense 1.34 s, Krylov 26 ms; 40 modes:
-/// 1.37 s and 60 ms; 1,176-DOF lattice, 40 modes: 145 ms and 25 ms, but 100
-/// modes: 159 ms and 363 ms (16 restarts on its clustered spectrum).
+/// 1.37 s and 60 ms; 1,176-DOF lattice, 40 modes: 145 ms and 27 ms, 100
+/// modes (12 DOFs a mode): 159 ms and 131 ms, about even; 20 keeps a margin.
 pub const KRYLOV_DOFS_PER_MODE: usize = 20;
 
 /// CONTRACT. Options of [`lowest_modes`].
@@ -128,7 +132,10 @@ pub struct EigenTuning {
     /// Modes with ω² < `zero_energy_tolerance` · s_max are zero-energy modes
     /// (rigid-body modes or mechanisms).
     pub zero_energy_tolerance: f64,
-    /// Sparse path: a Ritz pair (μ, y) is converged when ‖C y − μ y‖ ≤ tol · μ.
+    /// Sparse path: a Ritz pair (μ, y) is converged when ‖C y − μ y‖ ≤ tol · μ,
+    /// or when its residual has stalled below the rounding floor of the
+    /// Krylov relation (2e4 ε μ₁; see `lanczos`), which only binds for the
+    /// smallest wanted μ when μ₁/μ spans several decades.
     pub tolerance: f64,
     /// Sparse path: block size of the Krylov method (vectors per operator application).
     pub block_size: usize,
@@ -169,7 +176,8 @@ pub struct EigenReport {
     pub path: EigenPath,
     /// The shift σ used (rad²/s², negative).
     pub shift: f64,
-    /// The shift σ₀ started from, before the sparse path moved it (rad²/s²).
+    /// The shift σ₀ asked for (rad²/s²): the dense path's before its ×100
+    /// retries, the sparse path's before its probe moved it.
     pub initial_shift: f64,
     /// Largest K_ii/M_ii (rad²/s²): the stiffness scale of the tolerances.
     pub stiffness_scale: f64,
@@ -312,6 +320,18 @@ pub fn lowest_modes_with(
                 ),
             };
             report.initial_shift = shift;
+            // A model the dense path could take gives the Krylov method a few
+            // restarts only: dense costs at most ~1 s there.
+            let capped;
+            let tuning = if n <= opts.dense_limit {
+                capped = EigenTuning {
+                    max_restarts: tuning.max_restarts.min(FEW_MODES_MAX_RESTARTS),
+                    ..tuning.clone()
+                };
+                &capped
+            } else {
+                tuning
+            };
             match lanczos::shift_invert(k, m, count, shift, tuning) {
                 Ok(out) => {
                     report.shift = out.shift;
