@@ -163,7 +163,8 @@ impl ShiftedCholesky {
     /// recurrence, so the returned shapes are M-orthogonal to rounding even
     /// when the smallest wanted Ritz pairs were accepted at the recurrence's
     /// rounding floor (cross terms φ_iᵀMφ_j were 1e-7 on a 1,176-DOF lattice
-    /// wanting 100 modes; ~1e-14 after). `m` must be the M of [`Self::new`].
+    /// wanting 100 modes; ~1e-14 after); used only then, so converged runs
+    /// keep their bits. `m` must be the M of [`Self::new`].
     pub fn rayleigh_ritz(
         &self,
         m: &SparseMatrix,
@@ -356,15 +357,25 @@ pub fn shift_invert(
     let out = block_lanczos(&op, k.nrows(), count, tuning)?;
     if trace {
         eprintln!(
-            "[sparse] lanczos: {:.3} s total, {:.3} s in the operator ({} applications, {} restarts)",
+            "[sparse] lanczos: {:.3} s total, {:.3} s in the operator ({} applications, {} restarts{})",
             t0.elapsed().as_secs_f64(),
             op_time.get(),
             out.applications,
-            out.restarts
+            out.restarts,
+            if out.at_floor {
+                ", some pairs at the rounding floor"
+            } else {
+                ""
+            }
         );
     }
     Ok(SparseOutcome {
-        vectors: chol.rayleigh_ritz(m, out.vectors.as_ref())?,
+        // Pairs accepted at the floor: Rayleigh–Ritz on M restores M-orthogonality.
+        vectors: if out.at_floor {
+            chol.rayleigh_ritz(m, out.vectors.as_ref())?
+        } else {
+            chol.back_transform(out.vectors.as_ref())
+        },
         shift: chol.shift,
         operator_applications: out.applications,
         restarts: out.restarts,
@@ -427,6 +438,8 @@ pub struct LanczosOutcome {
     pub vectors: Mat<f64>,
     pub applications: usize,
     pub restarts: usize,
+    /// Some pairs were accepted at the rounding floor, not at the tolerance.
+    pub at_floor: bool,
 }
 
 /// Deterministic pseudo-random numbers in (−1, 1) (xorshift64*).
@@ -771,27 +784,31 @@ fn block_lanczos_impl(
                 res2.sqrt()
             })
             .collect();
-        let converged = residuals
-            .iter()
-            .enumerate()
-            .filter(|&(i, &res)| {
-                res <= tuning.tolerance * theta[i].abs()
-                    || (res <= floor
-                        && previous_residuals
-                            .get(i)
-                            .is_some_and(|&before| res > STALL_RATIO * before))
-            })
-            .count();
+        let (mut converged, mut at_floor) = (0, 0);
+        for (i, &res) in residuals.iter().enumerate() {
+            if res <= tuning.tolerance * theta[i].abs() {
+                converged += 1;
+            } else if res <= floor
+                && previous_residuals
+                    .get(i)
+                    .is_some_and(|&before| res > STALL_RATIO * before)
+            {
+                converged += 1;
+                at_floor += 1;
+            }
+        }
         previous_residuals = residuals;
         if exact_relation && converged == count && cols >= count {
-            return Ok(ritz(
+            let mut out = ritz(
                 v.get(.., ..cols),
                 &theta,
                 s.as_ref(),
                 count,
                 applications,
                 restarts,
-            ));
+            );
+            out.at_floor = at_floor > 0;
+            return Ok(out);
         }
         q = z;
         if cols + q.ncols() > max_basis {
@@ -857,6 +874,7 @@ fn ritz(
         vectors: y,
         applications,
         restarts,
+        at_floor: false,
     }
 }
 
