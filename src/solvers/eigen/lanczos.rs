@@ -170,15 +170,9 @@ impl ShiftedCholesky {
         m: &SparseMatrix,
         y: MatRef<'_, f64>,
     ) -> Result<Mat<f64>, EigenError> {
+        debug_assert_eq!(m.compute_nnz(), self.mass_nonzeros, "not the M of new()");
         let count = y.ncols();
-        let mut mem = self.solve_scratch(count);
-        let mut z = y.to_owned();
-        self.supernodal().l_transpose_solve_with_conj(
-            Conj::No,
-            z.as_mut(),
-            par_iter(),
-            MemStack::new(&mut mem),
-        );
+        let z = self.l_transpose_solve(y);
         let mass = self
             .permuted_mass
             .get_or_init(|| RowMatrix::permuted(m, &self.fwd));
@@ -208,6 +202,11 @@ impl ShiftedCholesky {
 
     /// φ = Pᵀ L⁻ᵀ y.
     pub fn back_transform(&self, y: MatRef<'_, f64>) -> Mat<f64> {
+        self.unpermute(self.l_transpose_solve(y).as_ref())
+    }
+
+    /// L⁻ᵀ y, in the factor's (permuted) order.
+    fn l_transpose_solve(&self, y: MatRef<'_, f64>) -> Mat<f64> {
         let mut mem = self.solve_scratch(y.ncols());
         let mut z = y.to_owned();
         self.supernodal().l_transpose_solve_with_conj(
@@ -216,7 +215,7 @@ impl ShiftedCholesky {
             par_iter(),
             MemStack::new(&mut mem),
         );
-        self.unpermute(z.as_ref())
+        z
     }
 
     /// x = (K − σM)⁻¹ b.
