@@ -678,6 +678,18 @@ mod direct_tests {
         assert_eq!((e.dataset_index, e.dataset_number), (Some(0), Some(58)));
     }
 
+    /// Byte offset of little-endian value `index` of the real single-precision
+    /// `f` in its written `bytes`.
+    fn value_offset(bytes: &[u8], f: &Function58, index: usize) -> usize {
+        let Ordinate::RealSingle(v) = &f.ordinate else {
+            panic!("real single")
+        };
+        bytes
+            .windows(4)
+            .position(|w| w == v[index].to_le_bytes())
+            .unwrap_or_else(|| panic!("value {}", index + 1))
+    }
+
     /// A NaN or infinity in the data; no closing `-1` after the declared
     /// bytes; blank lines or a missing line break before it; a read error
     /// inside the data.
@@ -685,13 +697,7 @@ mod direct_tests {
     fn bad_data_and_quirks() {
         let f = function(0, 300, 2);
         let bytes = write(&[f.clone(), function(1, 200, 5)], ByteOrder::Little);
-        let Ordinate::RealSingle(v) = &f.ordinate else {
-            panic!("real single")
-        };
-        let at = bytes
-            .windows(4)
-            .position(|w| w == v[123].to_le_bytes())
-            .expect("value 124");
+        let at = value_offset(&bytes, &f, 123);
         for bad in [f32::NAN, f32::INFINITY] {
             let mut b = bytes.clone();
             b[at..at + 4].copy_from_slice(&bad.to_le_bytes());
@@ -731,13 +737,7 @@ mod direct_tests {
         // Inside the data of a dataset read in place.
         let f = function(0, 3000, 2);
         let bytes = write(std::slice::from_ref(&f), ByteOrder::Little);
-        let Ordinate::RealSingle(v) = &f.ordinate else {
-            panic!("real single")
-        };
-        let at = bytes
-            .windows(4)
-            .position(|w| w == v[2500].to_le_bytes())
-            .expect("value 2501");
+        let at = value_offset(&bytes, &f, 2500);
         for threads in [1, 2] {
             let (r, direct) = parse_counted(Failing(&bytes[..at]), 64, threads);
             let e = r.expect_err("read error");

@@ -186,7 +186,7 @@ impl ShiftedCholesky {
             1.0,
             par(),
         );
-        let a = Mat::from_fn(count, count, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+        // largest_eigenpairs reads A's lower triangle.
         let (_, rotation, _) = super::dense::largest_eigenpairs(a, count, Par::Seq, 0)?;
         let mut rotated = Mat::<f64>::zeros(z.nrows(), count);
         matmul(
