@@ -57,7 +57,7 @@ fn bench_options() -> UpdateOptions {
     UpdateOptions {
         resonances: Some(13),
         damping: 0.01,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     }
 }
 
@@ -158,6 +158,9 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
                 last: *chunk.last().unwrap(),
                 pos,
             }],
+            min: None,
+            max: None,
+            sd: None,
             pos,
         });
     }
@@ -248,7 +251,7 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
         resonances: Some(10),
         frequencies_hz: Some(freqs),
         max_iter: 1,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     let mut stamps = Vec::new();
     let t = Instant::now();

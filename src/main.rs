@@ -172,50 +172,66 @@ enum Inverse {
     Perturb,
 }
 
-/// Options shared by `update` (and the cases of `batch`).
+/// Options shared by `update` and `diagnose`. Unset options take the
+/// values of the chosen `--method` (see `UpdateOptions::default` and
+/// `UpdateOptions::paper`).
 #[derive(clap::Args, Clone)]
 struct UpdateArgs {
+    /// Pipeline: `robust` (default: fitted resonances, frequencies first,
+    /// damped steps, then a full-band estimate with uncertainties) or
+    /// `paper` (Yan & Golinval's iteration exactly, with the paper's values).
+    #[arg(long, value_enum)]
+    method: Option<MethodArg>,
     /// Modes N_md in the SEREP basis (default: min(N_ex, max(2R, R + 4))).
     #[arg(long)]
     modes: Option<usize>,
     /// Measured resonances R used for the updating frequencies (default: up to 8).
     #[arg(long)]
     resonances: Option<usize>,
-    /// cξ of Eq. 42: updating frequencies at (1 ± C)·f_r.
-    #[arg(long, default_value_t = 0.08)]
-    offset: f64,
+    /// Updating frequencies at (1 ± C)·f_r around each resonance [Eq. 42]
+    /// (default: 0.05 robust, 0.08 paper).
+    #[arg(long, allow_negative_numbers = true)]
+    offset: Option<f64>,
     /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
     #[arg(long, value_name = "F1,F2,...")]
     freqs: Option<String>,
-    /// Add the natural-frequency equations (Eq. 16-22).
+    /// Add the natural-frequency equations [Eq. 16-22].
     #[arg(long)]
     with_frequencies: bool,
     /// First bring the paired resonances within 1 % by the natural-frequency
-    /// equations alone, then update from FRFs (for initial models far from the test).
+    /// equations alone, then update from FRFs (default with --method robust).
     #[arg(long)]
     frequencies_first: bool,
-    /// How the test's resonances and their shapes are found.
-    #[arg(long, value_enum, default_value = "peaks")]
-    resonance_method: ResonanceMethodArg,
-    /// How the reduced dynamic stiffness is inverted.
+    /// How the test's resonances and their shapes are found (default: fit
+    /// robust, peaks paper).
+    #[arg(long, value_enum)]
+    resonance_method: Option<ResonanceMethodArg>,
+    /// How the reduced dynamic stiffness is inverted [§3.3-3.4].
     #[arg(long, value_enum, default_value = "svd")]
     inverse: Inverse,
     /// Relative diagonal perturbation for --inverse perturb.
-    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION)]
+    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION, allow_negative_numbers = true)]
     perturbation: f64,
-    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E (Eq. 40).
-    #[arg(long, default_value_t = 1e-4)]
-    svd_eps: f64,
+    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E [Eq. 40].
+    #[arg(long, allow_negative_numbers = true)]
+    svd_eps: Option<f64>,
     /// Tikhonov damping of each FRF step, relative to the largest singular
-    /// value (0: the paper's plain SVD solution).
-    #[arg(long, default_value_t = 0.0)]
-    damping: f64,
-    /// Stop when max |p_j| < T (Eq. 49).
-    #[arg(long, default_value_t = 0.01)]
-    tol: f64,
-    /// Iteration limit.
-    #[arg(long, default_value_t = 20)]
-    max_iter: usize,
+    /// value (default: 0.05 robust, 0 paper = the plain SVD solution).
+    #[arg(long, allow_negative_numbers = true)]
+    damping: Option<f64>,
+    /// Stop the iteration when max |p_j| < T [Eq. 49] (default 0.01).
+    #[arg(long, allow_negative_numbers = true)]
+    tol: Option<f64>,
+    /// Iteration limit of the paper's iteration (default 20).
+    #[arg(long)]
+    max_iter: Option<usize>,
+}
+
+/// `--method`.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum MethodArg {
+    Robust,
+    Paper,
 }
 
 /// `--resonance-method`.
@@ -228,28 +244,38 @@ enum ResonanceMethodArg {
 }
 
 impl UpdateArgs {
-    fn options(&self) -> Result<frfup::updating::UpdateOptions, CommandError> {
-        let mut o = frfup::updating::UpdateOptions {
-            modes: self.modes,
-            resonances: self.resonances,
-            offset: self.offset,
-            with_frequencies: self.with_frequencies,
-            frequencies_first: self.frequencies_first,
-            resonance_method: match self.resonance_method {
-                ResonanceMethodArg::Peaks => frfup::updating::ResonanceMethod::PeakPicking,
-                ResonanceMethodArg::Fit => frfup::updating::ResonanceMethod::ModalFit,
+    /// The options: the `--method` preset (or `base` without `--method`),
+    /// with every option given on the command line applied.
+    fn options_from(
+        &self,
+        base: frfup::updating::UpdateOptions,
+    ) -> Result<frfup::updating::UpdateOptions, CommandError> {
+        use frfup::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
+        let mut o = match self.method {
+            None => base,
+            Some(MethodArg::Robust) => UpdateOptions::default(),
+            Some(MethodArg::Paper) => UpdateOptions::paper(),
+        };
+        o.modes = self.modes.or(o.modes);
+        o.resonances = self.resonances.or(o.resonances);
+        o.offset = self.offset.unwrap_or(o.offset);
+        o.with_frequencies |= self.with_frequencies;
+        o.frequencies_first |= self.frequencies_first;
+        if let Some(m) = self.resonance_method {
+            o.resonance_method = match m {
+                ResonanceMethodArg::Peaks => ResonanceMethod::PeakPicking,
+                ResonanceMethodArg::Fit => ResonanceMethod::ModalFit,
+            };
+        }
+        o.svd_eps = self.svd_eps.unwrap_or(o.svd_eps);
+        o.damping = self.damping.unwrap_or(o.damping);
+        o.tol = self.tol.unwrap_or(o.tol);
+        o.max_iter = self.max_iter.unwrap_or(o.max_iter);
+        o.inverse = match self.inverse {
+            Inverse::Svd => InverseMethod::Svd,
+            Inverse::Perturb => InverseMethod::Perturb {
+                relative: self.perturbation,
             },
-            svd_eps: self.svd_eps,
-            damping: self.damping,
-            tol: self.tol,
-            max_iter: self.max_iter,
-            inverse: match self.inverse {
-                Inverse::Svd => frfup::updating::InverseMethod::Svd,
-                Inverse::Perturb => frfup::updating::InverseMethod::Perturb {
-                    relative: self.perturbation,
-                },
-            },
-            ..Default::default()
         };
         if let Some(f) = &self.freqs {
             o.frequencies_hz = Some(
@@ -401,7 +427,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 deck,
                 test,
                 out: out.clone(),
-                options: args.options()?,
+                options: args.options_from(frfup::updating::UpdateOptions::default())?,
             };
             let reporter =
                 StepReporter::new(cli.quiet, cmd.options.max_iter as u64 + 1, "iteration");
@@ -417,6 +443,12 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 min_sfdac: fail_below_sfdac,
                 max_freq_error_pct: fail_above_freq_error,
             };
+            if !outcome.result.converged {
+                return Err(CommandError::threshold(format!(
+                    "not converged: {}",
+                    commands::update::not_converged_reason(&outcome.result)
+                )));
+            }
             check_thresholds(&outcome, thresholds)?;
         }
         Command::Diagnose {
@@ -432,7 +464,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 test,
                 out: out.clone(),
                 options: frfup::diagnosis::DiagnoseOptions {
-                    update: args.options()?,
+                    update: args.options_from(frfup::updating::UpdateOptions::paper())?,
                     skip_update: no_update,
                     max_findings,
                     ..Default::default()
@@ -480,6 +512,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                         c.wall_time_s,
                         match &c.status {
                             frfup::batch::CaseStatus::Passed => String::new(),
+                            frfup::batch::CaseStatus::NotConverged(r) => format!(": {r}"),
                             frfup::batch::CaseStatus::ThresholdFailed(r) =>
                                 format!(": {}", r.join("; ")),
                             frfup::batch::CaseStatus::Error(e) => format!(": {e}"),
@@ -539,8 +572,32 @@ fn print_update_summary(outcome: &commands::update::UpdateOutcome) {
         pct(outcome.freq_error_initial_pct),
         pct(outcome.freq_error_updated_pct),
     );
-    for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
-        println!("  {name:<16} {p:+.5}");
+    println!("layout: {}", r.layout);
+    match &r.estimate {
+        Some(est) => {
+            println!(
+                "full-band fit at {:.2}x the noise level; parameters (relative change ± 1 sd):",
+                est.misfit
+            );
+            for p in &est.parameters {
+                let note = if p.at_bound {
+                    "  at its bound"
+                } else if !p.identified {
+                    "  NOT IDENTIFIED by these data"
+                } else {
+                    ""
+                };
+                println!("  {:<16} {:+.5} ± {:.5}{note}", p.name, p.value, p.sd);
+            }
+        }
+        None => {
+            for (name, p) in r.parameter_names.iter().zip(r.parameters()) {
+                println!("  {name:<16} {p:+.5}");
+            }
+        }
+    }
+    for w in &r.warnings {
+        eprintln!("warning: {w}");
     }
 }
 

@@ -64,7 +64,7 @@ fn run(channels: &[u32]) -> (Deck, MeasuredFrfs, UpdateResult) {
     let test = cantilever_test(&deck, channels);
     let opts = UpdateOptions {
         resonances: Some(6),
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     let result = update(&deck, &test, &opts).unwrap();
     (deck, test, result)
@@ -173,7 +173,7 @@ fn single_channel_and_degenerate_results_still_report() {
     // The driving point only: one channel, one measured DOF.
     let deck = cantilever_deck();
     let test = cantilever_test(&deck, &[16]);
-    match update(&deck, &test, &UpdateOptions::default()) {
+    match update(&deck, &test, &UpdateOptions::paper()) {
         Ok(result) => {
             let dir = out_dir("single");
             write_report(&dir, &result, &deck, &test, &inputs()).unwrap();
@@ -230,7 +230,7 @@ fn garteur_report() {
     let deck_text = std::fs::read_to_string(root().join("fixtures/garteur/garteur.deck")).unwrap();
     let deck = parse(&deck_text).unwrap();
     let test = frfup::testdata::load(&root().join("fixtures/garteur/campaign.uff")).unwrap();
-    let result = update(&deck, &test, &UpdateOptions::default()).unwrap();
+    let result = update(&deck, &test, &UpdateOptions::paper()).unwrap();
     let dir = out_dir("garteur");
     let inputs = ReportInputs {
         deck_path: "fixtures/garteur/garteur.deck".into(),

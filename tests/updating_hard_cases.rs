@@ -33,7 +33,7 @@ fn case(extra: &str, truth: &[(&str, f64)], last: u32) -> (Deck, MeasuredFrfs) {
 fn opts() -> UpdateOptions {
     UpdateOptions {
         resonances: Some(6),
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     }
 }
 
@@ -120,7 +120,7 @@ fn divergence_stops_keeps_the_best_iteration_and_says_so() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
     let d = parse(&std::fs::read_to_string(root.join("garteur.deck")).unwrap()).unwrap();
     let test = frfup::testdata::load(&root.join("campaign.uff")).unwrap();
-    let r = update(&d, &test, &UpdateOptions::default()).unwrap();
+    let r = update(&d, &test, &UpdateOptions::paper()).unwrap();
     assert!(!r.converged);
     let said = r.warnings.iter().find_map(|w| match w {
         UpdateWarning::Diverged { best, .. } | UpdateWarning::ParameterExploded { best, .. } => {

@@ -116,7 +116,7 @@ fn cantilever_table1() {
         resonances: Some(6),
         offset: 0.08,
         modes,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     let r = update(&d, &test, &opts).unwrap();
     show("cantilever", &r);
@@ -148,7 +148,7 @@ fn cantilever_element8_spreads_over_7_to_9() {
     let opts = UpdateOptions {
         resonances: Some(6),
         offset: 0.08,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     let r = update(&d, &test, &opts).unwrap();
     show("cantilever15", &r);
@@ -180,7 +180,7 @@ fn framework_table2() {
         modes: Some(8),
         resonances: Some(8),
         offset: 0.06,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     let r = update(&d, &test, &opts).unwrap();
     show("framework", &r);
@@ -230,7 +230,7 @@ fn frame3d_with(noise: f64, seed: u64, tweak: &dyn Fn(&mut UpdateOptions)) -> Up
     let mut opts = UpdateOptions {
         frequencies_hz: Some(FRAME3D_FREQS.to_vec()),
         weighting,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     };
     tweak(&mut opts);
     let r = update(&d, &test, &opts).unwrap();

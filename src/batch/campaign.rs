@@ -167,7 +167,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     let what = format!("case #{} ({name})", index + 1);
     let model = base.join(string("model")?);
     let test = base.join(string("test")?);
-    const KNOWN: [&str; 20] = [
+    const KNOWN: [&str; 21] = [
         "name",
         "model",
         "test",
@@ -184,6 +184,7 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
         "resonance-method",
         "tol",
         "max-iter",
+        "method",
         "fail_below_sfdac",
         "fail_above_freq_error",
         "fail-below-sfdac",
@@ -192,11 +193,22 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
     for key in t.keys() {
         if !KNOWN.contains(&key.as_str()) {
             return Err(format!(
-                "{what}: unknown key `{key}`; expected name, model, test, an update option (modes, resonances, offset, freqs, with-frequencies, frequencies-first, resonance-method, inverse, perturbation, svd-eps, damping, tol, max-iter) or a threshold"
+                "{what}: unknown key `{key}`; expected name, model, test, an update option (method, modes, resonances, offset, freqs, with-frequencies, frequencies-first, resonance-method, inverse, perturbation, svd-eps, damping, tol, max-iter) or a threshold"
             ));
         }
     }
-    let defaults = UpdateOptions::default();
+    let defaults = match t.get("method") {
+        None => UpdateOptions::default(),
+        Some(v) => match v.as_str() {
+            Some("robust") => UpdateOptions::default(),
+            Some("paper") => UpdateOptions::paper(),
+            _ => {
+                return Err(format!(
+                    "{what}: `method` must be \"robust\" or \"paper\", found {v}"
+                ))
+            }
+        },
+    };
     let frequencies_hz = match t.get("freqs") {
         None => None,
         Some(toml::Value::Array(a)) => Some(

@@ -35,6 +35,8 @@ pub struct BatchOptions {
 #[derive(Clone, Debug, PartialEq)]
 pub enum CaseStatus {
     Passed,
+    /// Ran, but did not converge (why it stopped): a failure.
+    NotConverged(String),
     /// Ran, but a threshold failed (the reasons).
     ThresholdFailed(Vec<String>),
     /// Could not run (the error message).
@@ -45,6 +47,7 @@ impl CaseStatus {
     pub fn name(&self) -> &'static str {
         match self {
             CaseStatus::Passed => "passed",
+            CaseStatus::NotConverged(_) => "not-converged",
             CaseStatus::ThresholdFailed(_) => "threshold-failed",
             CaseStatus::Error(_) => "error",
         }
@@ -52,6 +55,7 @@ impl CaseStatus {
     fn detail(&self) -> String {
         match self {
             CaseStatus::Passed => String::new(),
+            CaseStatus::NotConverged(r) => r.clone(),
             CaseStatus::ThresholdFailed(r) => r.join("; "),
             CaseStatus::Error(e) => e.clone(),
         }
@@ -84,7 +88,8 @@ pub struct BatchSummary {
 }
 
 impl BatchSummary {
-    /// 2 if any case could not run, else 1 if any threshold failed, else 0.
+    /// 2 if any case could not run, else 1 if any case did not converge or
+    /// failed a threshold, else 0.
     pub fn exit_code(&self) -> i32 {
         if self
             .cases
@@ -95,7 +100,12 @@ impl BatchSummary {
         } else if self
             .cases
             .iter()
-            .any(|c| matches!(c.status, CaseStatus::ThresholdFailed(_)))
+            .any(|c| {
+                matches!(
+                    c.status,
+                    CaseStatus::ThresholdFailed(_) | CaseStatus::NotConverged(_)
+                )
+            })
         {
             1
         } else {
@@ -143,7 +153,9 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
     let reasons = update_cmd::threshold_failures(&outcome, thresholds);
     CaseSummary {
         name: case.name.clone(),
-        status: if reasons.is_empty() {
+        status: if !r.converged {
+            CaseStatus::NotConverged(update_cmd::not_converged_reason(r))
+        } else if reasons.is_empty() {
             CaseStatus::Passed
         } else {
             CaseStatus::ThresholdFailed(reasons)

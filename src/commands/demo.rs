@@ -35,7 +35,7 @@ pub fn demo_options() -> UpdateOptions {
         damping: 0.05,
         tol: 0.001,
         max_iter: 30,
-        ..UpdateOptions::default()
+        ..UpdateOptions::paper()
     }
 }
 

@@ -107,6 +107,24 @@ fn list_files(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// Why an update that did not converge stopped, in words.
+pub fn not_converged_reason(result: &UpdateResult) -> String {
+    let why = result
+        .warnings
+        .iter()
+        .find(|w| {
+            matches!(
+                w,
+                updating::UpdateWarning::EstimateNotConverged { .. }
+                    | updating::UpdateWarning::NotConverged { .. }
+                    | updating::UpdateWarning::Diverged { .. }
+                    | updating::UpdateWarning::ParameterExploded { .. }
+            )
+        })
+        .map(|w| w.to_string());
+    why.unwrap_or_else(|| result.stop.name().to_string())
+}
+
 /// The thresholds an update fails, in words (empty: all passed).
 pub fn threshold_failures(outcome: &UpdateOutcome, t: crate::batch::Thresholds) -> Vec<String> {
     let last = outcome.result.final_record();

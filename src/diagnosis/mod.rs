@@ -11,8 +11,6 @@
 //!    by more than the noise explains, greedily ([`select`]).
 //! 5. Write `diagnosis.json`, `diagnosed.deck` and `report.md` ([`output`]).
 
-pub mod data;
-pub mod fit;
 pub mod hypotheses;
 pub mod localise;
 pub mod output;
@@ -20,11 +18,10 @@ pub mod refit;
 pub mod select;
 
 use std::collections::BTreeMap;
-use std::fmt;
 
 use frfup_parsers::deck::Deck;
 
-use crate::model::{self, Damping, ModelError, ParameterValues};
+use crate::model::{self, Damping, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use crate::updating::{self, UpdateOptions};
 use data::TestData;
@@ -32,6 +29,7 @@ use fit::{DampingForm, DampingState, Mask};
 use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
 use select::{Engine, HypFit};
 
+pub use crate::updating::fullband::{data, fit};
 pub use output::write_outputs;
 
 /// Settings of a diagnosis.
@@ -53,7 +51,7 @@ pub struct DiagnoseOptions {
 impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
-            update: UpdateOptions::default(),
+            update: UpdateOptions::paper(),
             skip_update: false,
             max_findings: 4,
             fitted_per_round: 8,
@@ -62,25 +60,8 @@ impl Default for DiagnoseOptions {
     }
 }
 
-/// Why a diagnosis could not run.
-#[derive(Debug)]
-pub enum DiagnoseError {
-    Model(ModelError),
-    Eigen(String),
-    Data(String),
-}
-
-impl fmt::Display for DiagnoseError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            DiagnoseError::Model(e) => write!(f, "model: {e}"),
-            DiagnoseError::Eigen(e) => write!(f, "modes: {e}"),
-            DiagnoseError::Data(e) => write!(f, "test data: {e}"),
-        }
-    }
-}
-
-impl std::error::Error for DiagnoseError {}
+/// Why a diagnosis could not run (the full-band fit's errors).
+pub use crate::updating::fullband::FitError as DiagnoseError;
 
 /// How well a model matches the test.
 #[derive(Clone, Debug, PartialEq)]

@@ -308,14 +308,7 @@ pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelErro
     mirror_upper(&mut mass);
 
     let parameters = sensitivity::derivatives(deck, &layout, n)?;
-    let damping = match deck.damping.map(|d| d.model) {
-        None => Damping::None,
-        Some(frfup_parsers::deck::DampingModel::Modal { zeta }) => Damping::Modal { zeta },
-        Some(frfup_parsers::deck::DampingModel::Rayleigh { alpha, beta }) => {
-            Damping::Rayleigh { alpha, beta }
-        }
-        Some(frfup_parsers::deck::DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
-    };
+    let damping = Damping::of_deck(deck);
     let sensors: BTreeMap<u32, u32> = deck.sensors.iter().map(|s| (s.test_node, s.node)).collect();
     Ok(FeModel {
         dofs,

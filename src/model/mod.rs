@@ -101,6 +101,19 @@ pub enum Damping {
 
 /// CONTRACT. Relative changes p̄ of the deck's parameters (`param NAME ...`):
 /// updated value = (1 + p̄) × deck value. A parameter absent from the map is 0.
+impl Damping {
+    /// The damping of a deck's `damping` statement (none: undamped).
+    pub fn of_deck(deck: &frfup_parsers::deck::Deck) -> Damping {
+        use frfup_parsers::deck::DampingModel;
+        match deck.damping.map(|d| d.model) {
+            None => Damping::None,
+            Some(DampingModel::Modal { zeta }) => Damping::Modal { zeta },
+            Some(DampingModel::Rayleigh { alpha, beta }) => Damping::Rayleigh { alpha, beta },
+            Some(DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
+        }
+    }
+}
+
 pub type ParameterValues = BTreeMap<String, f64>;
 
 /// CONTRACT. ∂K/∂p and ∂M/∂p of one updating parameter (Eq. 30–31), where p is

@@ -39,6 +39,7 @@ pub struct MeasuredFrfs {
 }
 
 pub mod convert;
+pub mod layout;
 pub mod load;
 
 pub use convert::{signed_real, signed_real_displacement};

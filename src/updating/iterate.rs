@@ -28,8 +28,8 @@ use super::sensitivity::{frequency_equation, frf_equations, ModalSensitivities};
 use super::serep::{InverseMethod, SerepBasis};
 use super::svd_solve::solve_gap_rule;
 use super::{
-    FrfWeighting, IterationRecord, ResonanceMethod, StopReason, UpdateError, UpdateOptions,
-    UpdateResult, UpdateWarning,
+    FrfWeighting, IterationRecord, ResonanceMethod, StopReason, UpdateError, UpdateMethod,
+    UpdateOptions, UpdateResult, UpdateWarning,
 };
 use crate::model::{self, FeModel, ModelError, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
@@ -53,12 +53,15 @@ pub fn update_with_progress(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
-    update_model(
-        &mut |values| model::build(deck, values),
-        test,
-        opts,
-        progress,
-    )
+    match opts.method {
+        UpdateMethod::Paper => update_model(
+            &mut |values| model::build(deck, values),
+            test,
+            opts,
+            progress,
+        ),
+        UpdateMethod::Robust => super::robust::update_robust(deck, test, opts, progress),
+    }
 }
 
 /// The iteration on any model source: `build` assembles the FE model at the
@@ -70,6 +73,8 @@ pub fn update_model(
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
     check_options(opts)?;
+    let (column, layout) = crate::testdata::layout::as_column(test);
+    let test = &column;
     let mut warnings = Vec::new();
     let model0 = build(&ParameterValues::new()).map_err(UpdateError::Model)?;
     let names: Vec<String> = model0.parameters.iter().map(|p| p.name.clone()).collect();
@@ -101,10 +106,22 @@ pub fn update_model(
                     &ind,
                     &IdentifyOptions::default(),
                 );
-                (
-                    modes.iter().map(|m| m.resonance()).collect(),
-                    Some(modes.into_iter().map(|m| m.shape).collect()),
-                )
+                if modes.is_empty() {
+                    // No pole fits (e.g. an undamped model's FRFs): the peaks.
+                    let peaks = pick_peaks(
+                        &meas.lines_hz,
+                        &ind,
+                        &PeakOptions {
+                            min_prominence: opts.min_prominence,
+                        },
+                    );
+                    (peaks, None)
+                } else {
+                    (
+                        modes.iter().map(|m| m.resonance()).collect(),
+                        Some(modes.into_iter().map(|m| m.shape).collect()),
+                    )
+                }
             }
         };
     // A free-free model tested on a suspension: test resonances below half the
@@ -512,9 +529,16 @@ pub fn update_model(
         }
     }
 
-    let final_iteration = match stop {
-        StopReason::Converged => records.len() - 1,
-        _ => best_index(&records),
+    // The best iteration is returned; a converged last step counts as the
+    // best unless it fits clearly worse (SFDAC mean lower by > 1e-6).
+    let best = best_index(&records);
+    let last = records.len() - 1;
+    let final_iteration = if stop == StopReason::Converged
+        && records[last].sfdac.mean >= records[best].sfdac.mean - 1e-6
+    {
+        last
+    } else {
+        best
     };
     let fdac_initial = fdac_matrix(&fe_frfs_initial, &h_test);
     let fdac_final = if final_iteration == records.len() - 1 {
@@ -538,6 +562,8 @@ pub fn update_model(
         fdac_final,
         warnings,
         options: opts.clone(),
+        layout,
+        estimate: None,
     })
 }
 

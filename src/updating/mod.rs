@@ -11,10 +11,12 @@
 
 pub mod correlation;
 pub mod frequencies;
+pub mod fullband;
 pub mod identify;
 pub mod iterate;
 pub mod measured;
 pub mod output;
+pub mod robust;
 pub mod sensitivity;
 pub mod serep;
 pub mod svd_solve;
@@ -34,9 +36,37 @@ pub use serep::{InverseMethod, SerepBasis};
 /// Default relative diagonal perturbation of `--inverse perturb`.
 pub const DEFAULT_PERTURBATION: f64 = 1e-8;
 
-/// Settings of an update. `Default` gives the paper's values.
+/// Which pipeline an update runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpdateMethod {
+    /// The default: resonances by the multi-channel pole fit, the
+    /// frequencies-first stage, damped (Levenberg–Marquardt) FRF steps, then
+    /// the full-band estimate of [`fullband::estimate`] with bounds, priors
+    /// and uncertainties. Convergence is that of the final estimate.
+    Robust,
+    /// The paper's iteration exactly (Eq. 26–29, 49), with the options as given.
+    Paper,
+}
+
+impl UpdateMethod {
+    pub fn name(self) -> &'static str {
+        match self {
+            UpdateMethod::Robust => "robust",
+            UpdateMethod::Paper => "paper",
+        }
+    }
+}
+
+/// Settings of an update. `Default` is the robust pipeline
+/// ([`UpdateMethod::Robust`]); [`UpdateOptions::paper`] the paper's method
+/// with the paper's values.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UpdateOptions {
+    /// The pipeline.
+    pub method: UpdateMethod,
+    /// Levenberg–Marquardt iteration limit of the full-band estimate
+    /// ([`UpdateMethod::Robust`] only).
+    pub estimate_iterations: usize,
     /// N_md, modes in the SEREP basis. `None`: min(N_ex, max(2R, R + 4)).
     pub modes: Option<usize>,
     /// R, test resonances used for Eq. 42 (and frequency equations).
@@ -81,8 +111,28 @@ pub struct UpdateOptions {
 }
 
 impl Default for UpdateOptions {
+    /// The robust pipeline: the paper's iteration as a first stage with
+    /// fitted resonances, the frequencies-first stage, ±5 % offsets and
+    /// damped steps (μ = 0.05 σ₁, adapted), then the full-band estimate.
     fn default() -> Self {
         UpdateOptions {
+            method: UpdateMethod::Robust,
+            resonance_method: ResonanceMethod::ModalFit,
+            frequencies_first: true,
+            offset: 0.05,
+            damping: 0.05,
+            ..UpdateOptions::paper()
+        }
+    }
+}
+
+impl UpdateOptions {
+    /// The paper's method with the paper's values (§4: cξ = 0.08, gap rule
+    /// ε = 1e-4, stop at max |p| < 0.01, undamped SVD steps, peak picking).
+    pub fn paper() -> Self {
+        UpdateOptions {
+            method: UpdateMethod::Paper,
+            estimate_iterations: 40,
             modes: None,
             resonances: None,
             offset: 0.08,
@@ -185,6 +235,8 @@ pub enum UpdateError {
     Serep(serep::SerepError),
     Sensitivity(sensitivity::SensitivityError),
     Svd(svd_solve::SvdSolveError),
+    /// The full-band estimate could not run.
+    Estimate(fullband::FitError),
 }
 
 impl fmt::Display for UpdateError {
@@ -227,6 +279,7 @@ impl fmt::Display for UpdateError {
             UpdateError::Serep(e) => write!(f, "{e}"),
             UpdateError::Sensitivity(e) => write!(f, "{e}"),
             UpdateError::Svd(e) => write!(f, "solving the updating equations: {e}"),
+            UpdateError::Estimate(e) => write!(f, "full-band estimate: {e}"),
         }
     }
 }
@@ -284,6 +337,16 @@ pub enum UpdateWarning {
     },
     /// The iteration limit was reached before max |p| < tol.
     NotConverged { iterations: usize, last_step: f64 },
+    /// The full-band estimate reached its iteration limit.
+    EstimateNotConverged { iterations: usize },
+    /// The final fit stays well above the noise level: the deck's parameters
+    /// do not explain the test (missing physics, or a data error).
+    Misfit { ratio: f64 },
+    /// Parameters the data do not determine.
+    NotIdentified {
+        parameters: Vec<String>,
+        directions: Vec<Vec<(String, f64)>>,
+    },
 }
 
 impl fmt::Display for UpdateWarning {
@@ -352,6 +415,22 @@ impl fmt::Display for UpdateWarning {
                 f,
                 "not converged after {iterations} iterations (last max |p| = {last_step:.3e})"
             ),
+            UpdateWarning::EstimateNotConverged { iterations } => write!(
+                f,
+                "the full-band estimate did not converge in {iterations} Levenberg–Marquardt iterations; the best point found is returned"
+            ),
+            UpdateWarning::Misfit { ratio } => write!(
+                f,
+                "the updated model fits the FRFs at {ratio:.1}× the noise level: the deck's parameters do not explain the test; run `frfup diagnose` to look for missing physics or data errors"
+            ),
+            UpdateWarning::NotIdentified { parameters, directions } => {
+                write!(f, "not identified by these data: {}", parameters.join(", "))?;
+                for d in directions {
+                    let terms: Vec<String> = d.iter().map(|(n, v)| format!("{v:+.2}·{n}")).collect();
+                    write!(f, "; unseen direction {}", terms.join(" "))?;
+                }
+                Ok(())
+            }
         }
     }
 }
@@ -425,6 +504,11 @@ pub struct UpdateResult {
     pub fdac_final: Vec<Vec<f64>>,
     pub warnings: Vec<UpdateWarning>,
     pub options: UpdateOptions,
+    /// What the campaign measured (a column, a row used by reciprocity, …).
+    pub layout: crate::testdata::layout::Layout,
+    /// The full-band estimate ([`UpdateMethod::Robust`]), whose parameters
+    /// are those of the final record.
+    pub estimate: Option<fullband::estimate::FullBandEstimate>,
 }
 
 impl UpdateResult {

@@ -398,6 +398,14 @@ pub struct Param {
     pub name: String,
     pub quantity: Quantity,
     pub ids: Vec<IdRange>,
+    /// `min=P`: hard lower bound on the relative change p (`None`: the
+    /// physical bound 1 + p > 0).
+    pub min: Option<f64>,
+    /// `max=P`: hard upper bound on p (`None`: no bound).
+    pub max: Option<f64>,
+    /// `sd=S`: one standard deviation of a zero-mean prior on p (`None`: no
+    /// prior).
+    pub sd: Option<f64>,
     pub pos: Pos,
 }
 

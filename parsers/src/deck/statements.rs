@@ -147,7 +147,9 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
                 deck.damping = Some(DampingStatement { model, pos });
             }
             "param" => {
-                let [name, qty, ids] = exact(args, first, &["NAME", "QTY", "IDS"])?;
+                let (head, tail) = positional(args, first, &["NAME", "QTY", "IDS"])?;
+                let [name, qty, ids] = exact(head, first, &["NAME", "QTY", "IDS"])?;
+                let kv = KeyValues::parse(tail, first, &["min", "max", "sd"])?;
                 let name = name_at(name, "a parameter name")?;
                 let quantity = Quantity::from_name(qty.text).ok_or_else(|| {
                     DeckError::new(
@@ -166,6 +168,9 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
                     name,
                     quantity,
                     ids,
+                    min: kv.number("min")?,
+                    max: kv.number("max")?,
+                    sd: kv.number("sd")?,
                     pos,
                 });
             }

@@ -359,6 +359,7 @@ pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
         if p.ids.is_empty() {
             out.push(p.pos, Arg::Positional(2), "`param` lists no ID");
         }
+        param_bounds(&mut out, p);
         let target = p.quantity.target();
         let ids = &target_ids
             .iter()
@@ -491,4 +492,47 @@ pub(crate) fn first_error(deck: &Deck, source: Option<&str>) -> Result<(), DeckE
 
 pub(crate) fn validate(deck: &Deck) -> Result<(), DeckError> {
     first_error(deck, None)
+}
+
+/// `min`, `max` and `sd` of a `param`: finite; min > −1 (a property must stay
+/// positive), min < max, 0 inside [min, max] (the deck's value is admissible),
+/// sd > 0.
+fn param_bounds(out: &mut Issues, p: &super::Param) {
+    for (key, v) in [("min", p.min), ("max", p.max), ("sd", p.sd)] {
+        if v.is_some_and(|x| !x.is_finite()) {
+            out.push(p.pos, Arg::Key(key), format!("`{key}` must be a finite number"));
+            return;
+        }
+    }
+    if let Some(lo) = p.min {
+        if lo <= -1.0 {
+            out.push(
+                p.pos,
+                Arg::Key("min"),
+                format!("`min={lo}` allows 1 + p ≤ 0 (a zero or negative property); use min > −1"),
+            );
+        } else if lo > 0.0 {
+            out.push(
+                p.pos,
+                Arg::Key("min"),
+                format!("`min={lo}` excludes the deck's own value (p = 0)"),
+            );
+        }
+    }
+    if let Some(hi) = p.max {
+        if hi < 0.0 {
+            out.push(
+                p.pos,
+                Arg::Key("max"),
+                format!("`max={hi}` excludes the deck's own value (p = 0)"),
+            );
+        } else if p.min.is_some_and(|lo| lo >= hi) {
+            out.push(p.pos, Arg::Key("max"), "`max` must be greater than `min`");
+        }
+    }
+    if let Some(sd) = p.sd {
+        if sd <= 0.0 {
+            out.push(p.pos, Arg::Key("sd"), format!("`sd={sd}` must be > 0"));
+        }
+    }
 }

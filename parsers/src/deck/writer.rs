@@ -173,7 +173,18 @@ pub fn write(deck: &Deck) -> String {
             })
             .collect::<Vec<_>>()
             .join(",");
-        let _ = writeln!(s, "param {} {} {ids}", name(&p.name), p.quantity.name());
+        let mut bounds = String::new();
+        for (key, v) in [("min", p.min), ("max", p.max), ("sd", p.sd)] {
+            if let Some(v) = v {
+                bounds.push_str(&format!(" {key}={}", n(v)));
+            }
+        }
+        let _ = writeln!(
+            s,
+            "param {} {} {ids}{bounds}",
+            name(&p.name),
+            p.quantity.name()
+        );
     }
     if !deck.sensors.is_empty() {
         s.push('\n');

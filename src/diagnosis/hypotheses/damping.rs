@@ -18,12 +18,7 @@ pub const FORMS: [DampingForm; 3] = [
 
 /// The deck's damping as a model value.
 pub fn of_deck(deck: &Deck) -> Damping {
-    match deck.damping.map(|d| d.model) {
-        Some(DampingModel::Modal { zeta }) => Damping::Modal { zeta },
-        Some(DampingModel::Rayleigh { alpha, beta }) => Damping::Rayleigh { alpha, beta },
-        Some(DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
-        None => Damping::None,
-    }
+    Damping::of_deck(deck)
 }
 
 /// `deck` with its `damping` statement replaced.

@@ -4,7 +4,7 @@
 
 use faer::c64;
 
-use super::DiagnoseError;
+use super::FitError as DiagnoseError;
 use crate::testdata::MeasuredFrfs;
 use crate::updating::frequencies::{indicator, pick_peaks, PeakOptions, Resonance};
 

@@ -18,7 +18,7 @@ use faer::c64;
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
-use super::DiagnoseError;
+use super::FitError as DiagnoseError;
 use crate::model::{self, Damping, ParameterValues};
 use crate::solvers::eigen::{self, EigenOptions, Modes};
 use crate::solvers::frf;
@@ -326,6 +326,12 @@ impl DampingForm {
 pub struct LmOutcome {
     pub x: Vec<f64>,
     pub residuals: Vec<f64>,
+    /// The run stopped on its own criterion (relative cost change < 1e-7,
+    /// a step < 1e-6, or no downhill step at any λ: a stationary point),
+    /// not on the iteration limit.
+    pub converged: bool,
+    /// Jacobians evaluated.
+    pub iterations: usize,
 }
 
 /// Bounded Levenberg–Marquardt on a few parameters (forward differences,
@@ -339,7 +345,7 @@ where
     let mut r = f(&x)?;
     let mut cost: f64 = r.iter().map(|v| v * v).sum();
     let mut lambda = 1e-3;
-    for _ in 0..max_iter {
+    for it in 0..max_iter {
         let jac = jacobian(&mut f, &x, &r, lo, hi)?;
         let (jtj, jtr) = normal(&jac, &r);
         let mut improved = false;
@@ -369,17 +375,32 @@ where
                 lambda = (lambda / 3.0).max(1e-9);
                 improved = true;
                 if rel < 1e-7 || moved < 1e-6 {
-                    return Some(LmOutcome { x, residuals: r });
+                    return Some(LmOutcome {
+                        x,
+                        residuals: r,
+                        converged: true,
+                        iterations: it + 1,
+                    });
                 }
                 break;
             }
             lambda *= 10.0;
         }
         if !improved {
-            break;
+            return Some(LmOutcome {
+                x,
+                residuals: r,
+                converged: true,
+                iterations: it + 1,
+            });
         }
     }
-    Some(LmOutcome { x, residuals: r })
+    Some(LmOutcome {
+        x,
+        residuals: r,
+        converged: false,
+        iterations: max_iter,
+    })
 }
 
 /// Forward-difference Jacobian columns ∂r/∂x_i (backward at an upper bound).

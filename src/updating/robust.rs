@@ -1,0 +1,155 @@
+//! The default pipeline ([`UpdateMethod::Robust`]).
+//!
+//! 1. The paper's iteration as a first stage ([`update_model`]) with the
+//!    robust options: resonances by the multi-channel pole fit, the
+//!    frequencies-first stage, damped steps. It brings the model near the
+//!    test cheaply; its result is one of the starts of stage 2.
+//! 2. The full-band estimate ([`estimate`]): every line and channel, the
+//!    damping fitted along, bounds and priors, from the better of the deck
+//!    (p̄ = 0) and stage 1's best iteration. Its parameters are the result,
+//!    with their uncertainty; the update has converged when this stage has.
+//! 3. The final parameters are scored like an iteration (SFDAC at the
+//!    updating frequencies, pairs, FDAC) and appended as the last record,
+//!    so that every table and chart shows the model returned.
+
+use frfup_parsers::deck::Deck;
+
+use super::fullband::data::TestData;
+use super::fullband::estimate::{estimate, EstimateRequest};
+use super::iterate::update_model;
+use super::{
+    IterationRecord, StopReason, UpdateError, UpdateMethod, UpdateOptions, UpdateResult,
+    UpdateWarning,
+};
+use crate::model::{self, ParameterValues};
+use crate::testdata::MeasuredFrfs;
+
+/// Misfit (mean squared residual over its noise-level value) above which the
+/// update warns that its parameters do not explain the test.
+const MISFIT_WARNING: f64 = 4.0;
+
+/// Run the robust pipeline.
+pub fn update_robust(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<UpdateResult, UpdateError> {
+    let mut result = update_model(&mut |v| model::build(deck, v), test, opts, progress)?;
+    let (column, _) = crate::testdata::layout::as_column(test);
+    let data = test_data(deck, &column)?;
+    let np = result.parameter_names.len();
+    let est = estimate(&EstimateRequest {
+        deck,
+        data: &data,
+        starts: vec![vec![0.0; np], result.parameters().to_vec()],
+        max_iter: opts.estimate_iterations,
+    })
+    .map_err(UpdateError::Estimate)?;
+    let values = est.values();
+    let p_final: Vec<f64> = result
+        .parameter_names
+        .iter()
+        .map(|n| values.get(n).copied().unwrap_or(0.0))
+        .collect();
+    let record = score(deck, test, opts, &values, &p_final, &result)?;
+    progress(&record.0);
+    let prev = result.final_record().parameters.clone();
+    let mut rec = record.0;
+    // The step from the first stage's result, composed (Eq. 29 inverted).
+    rec.step = p_final
+        .iter()
+        .zip(&prev)
+        .map(|(f, p)| (f - p) / (1.0 + p))
+        .collect();
+    result.iterations.push(rec);
+    result.final_iteration = result.iterations.len() - 1;
+    result.fdac_final = record.1;
+    result.converged = est.converged;
+    result.stop = if est.converged {
+        StopReason::Converged
+    } else {
+        StopReason::IterationLimit
+    };
+    // The first stage's own stopping warnings describe an intermediate result.
+    result.warnings.retain(|w| {
+        !matches!(
+            w,
+            UpdateWarning::NotConverged { .. }
+                | UpdateWarning::Diverged { .. }
+                | UpdateWarning::ParameterExploded { .. }
+        )
+    });
+    if !est.converged {
+        result.warnings.push(UpdateWarning::EstimateNotConverged {
+            iterations: est.iterations,
+        });
+    }
+    if est.misfit > MISFIT_WARNING {
+        result
+            .warnings
+            .push(UpdateWarning::Misfit { ratio: est.misfit });
+    }
+    let unidentified: Vec<String> = est
+        .parameters
+        .iter()
+        .filter(|p| !p.identified && !p.at_bound)
+        .map(|p| p.name.clone())
+        .collect();
+    if !unidentified.is_empty() {
+        result.warnings.push(UpdateWarning::NotIdentified {
+            parameters: unidentified,
+            directions: est
+                .missing_directions
+                .iter()
+                .map(|(d, _)| d.clone())
+                .collect(),
+        });
+    }
+    result.estimate = Some(est);
+    debug_assert_eq!(result.options.method, UpdateMethod::Robust);
+    Ok(result)
+}
+
+/// The measured FRFs for the full-band fit, restricted to the channels the
+/// model can place (the others are already reported by the first stage).
+fn test_data(deck: &Deck, test: &MeasuredFrfs) -> Result<TestData, UpdateError> {
+    let mut data = TestData::new(test).map_err(UpdateError::Estimate)?;
+    let fe = model::build(deck, &ParameterValues::new()).map_err(UpdateError::Model)?;
+    let keep: Vec<bool> = data
+        .channels
+        .iter()
+        .map(|c| fe.measured_dof(c.node, c.direction).is_some())
+        .collect();
+    data.retain_channels(&keep);
+    Ok(data)
+}
+
+/// The record of the final parameters: the first stage's machinery run for
+/// zero iterations on the deck with the values multiplied out, relabelled.
+fn score(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+    values: &ParameterValues,
+    p_final: &[f64],
+    stage1: &UpdateResult,
+) -> Result<(IterationRecord, Vec<Vec<f64>>), UpdateError> {
+    let final_deck = model::updated_deck(deck, values);
+    let once = UpdateOptions {
+        max_iter: 0,
+        frequencies_first: false,
+        ..opts.clone()
+    };
+    let scored = update_model(
+        &mut |v| model::build(&final_deck, v),
+        test,
+        &once,
+        &mut |_| {},
+    )?;
+    let mut rec = scored.iterations[0].clone();
+    rec.index = stage1.iterations.len();
+    rec.parameters = p_final.to_vec();
+    rec.step_scale = 1.0;
+    Ok((rec, scored.fdac_initial))
+}
