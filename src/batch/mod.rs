@@ -97,16 +97,12 @@ impl BatchSummary {
             .any(|c| matches!(c.status, CaseStatus::Error(_)))
         {
             2
-        } else if self
-            .cases
-            .iter()
-            .any(|c| {
-                matches!(
-                    c.status,
-                    CaseStatus::ThresholdFailed(_) | CaseStatus::NotConverged(_)
-                )
-            })
-        {
+        } else if self.cases.iter().any(|c| {
+            matches!(
+                c.status,
+                CaseStatus::ThresholdFailed(_) | CaseStatus::NotConverged(_)
+            )
+        }) {
             1
         } else {
             0

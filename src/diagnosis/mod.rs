@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
 
-use crate::model::{self, Damping, ParameterValues};
+use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use crate::updating::{self, UpdateOptions};
 use data::TestData;
@@ -805,18 +805,7 @@ fn pair_search(
 }
 
 /// Number with 4 significant digits.
-pub fn sig(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return format!("{x}");
-    }
-    let e = x.abs().log10().floor() as i32;
-    if (-3..6).contains(&e) {
-        let d = (3 - e).max(0) as usize;
-        format!("{x:.d$}")
-    } else {
-        format!("{x:.3e}")
-    }
-}
+pub use crate::model::sig;
 
 struct Round {
     validated: Vec<(Hypothesis, HypFit, f64)>,
@@ -1223,17 +1212,4 @@ fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuali
     })
 }
 
-pub fn describe_damping(d: Damping) -> String {
-    match d {
-        Damping::None => "none".into(),
-        Damping::Modal { zeta } => format!("modal zeta = {}", sig(zeta)),
-        Damping::Rayleigh { alpha, beta } => {
-            format!(
-                "rayleigh alpha = {} 1/s, beta = {} s",
-                sig(alpha),
-                sig(beta)
-            )
-        }
-        Damping::Hysteretic { eta } => format!("hysteretic eta = {}", sig(eta)),
-    }
-}
+pub use crate::model::describe_damping;

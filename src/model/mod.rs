@@ -114,6 +114,37 @@ impl Damping {
     }
 }
 
+/// A number with four significant digits (plain, or in `e` notation outside
+/// 1e-3..1e6).
+pub fn sig(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let e = x.abs().log10().floor() as i32;
+    if (-3..6).contains(&e) {
+        let d = (3 - e).max(0) as usize;
+        format!("{x:.d$}")
+    } else {
+        format!("{x:.3e}")
+    }
+}
+
+/// A damping model in words with its values and units.
+pub fn describe_damping(d: Damping) -> String {
+    match d {
+        Damping::None => "none".into(),
+        Damping::Modal { zeta } => format!("modal zeta = {}", sig(zeta)),
+        Damping::Rayleigh { alpha, beta } => {
+            format!(
+                "rayleigh alpha = {} 1/s, beta = {} s",
+                sig(alpha),
+                sig(beta)
+            )
+        }
+        Damping::Hysteretic { eta } => format!("hysteretic eta = {}", sig(eta)),
+    }
+}
+
 pub type ParameterValues = BTreeMap<String, f64>;
 
 /// CONTRACT. ∂K/∂p and ∂M/∂p of one updating parameter (Eq. 30–31), where p is

@@ -149,7 +149,11 @@ mod tests {
 
     #[test]
     fn a_row_becomes_the_column_of_the_response_dof() {
-        let t = frfs(vec![ch((5, 3), (1, 3), 1.0), ch((5, 3), (2, -3), 2.0), ch((5, 3), (5, 3), 3.0)]);
+        let t = frfs(vec![
+            ch((5, 3), (1, 3), 1.0),
+            ch((5, 3), (2, -3), 2.0),
+            ch((5, 3), (5, 3), 3.0),
+        ]);
         let (c, layout) = as_column(&t);
         assert_eq!(
             layout,
@@ -161,16 +165,30 @@ mod tests {
         let got: Vec<_> = c
             .channels
             .iter()
-            .map(|x| (x.response_node, x.response_direction, x.reference_node, x.reference_direction, x.values[0].re))
+            .map(|x| {
+                (
+                    x.response_node,
+                    x.response_direction,
+                    x.reference_node,
+                    x.reference_direction,
+                    x.values[0].re,
+                )
+            })
             .collect();
-        assert_eq!(got, vec![(1, 3, 5, 3, 1.0), (2, -3, 5, 3, 2.0), (5, 3, 5, 3, 3.0)]);
+        assert_eq!(
+            got,
+            vec![(1, 3, 5, 3, 1.0), (2, -3, 5, 3, 2.0), (5, 3, 5, 3, 3.0)]
+        );
     }
 
     #[test]
     fn a_column_and_mimo_are_kept() {
         let t = frfs(vec![ch((1, 3), (5, 3), 1.0), ch((2, 3), (5, 3), 1.0)]);
         assert_eq!(as_column(&t).0, t);
-        assert!(matches!(as_column(&t).1, Layout::FixedExciter { channels: 2, .. }));
+        assert!(matches!(
+            as_column(&t).1,
+            Layout::FixedExciter { channels: 2, .. }
+        ));
         let m = frfs(vec![
             ch((1, 3), (5, 3), 1.0),
             ch((2, 3), (6, 3), 1.0),

@@ -32,10 +32,21 @@ pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io:
         frequencies_csv(result).as_bytes(),
     )?;
     write_atomic(&dir.join("sfdac.csv"), sfdac_csv(result).as_bytes())?;
+    if let Some(est) = &result.estimate {
+        write_atomic(&dir.join("estimates.csv"), estimates_csv(est).as_bytes())?;
+    }
     let updated = model::updated_deck(deck, &result.parameter_values());
     write_atomic(&dir.join("updated.deck"), deck::write(&updated).as_bytes())?;
     write_atomic(&dir.join("report.md"), report_md(result, deck).as_bytes())?;
     Ok(())
+}
+
+fn finite_or_null(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
 }
 
 fn named(names: &[String], values: &[f64]) -> Value {
@@ -123,9 +134,35 @@ pub fn report_json(result: &UpdateResult) -> Value {
         super::InverseMethod::Svd => ("svd", Value::Null),
         super::InverseMethod::Perturb { relative } => ("perturb", json!(relative)),
     };
+    let estimate = result.estimate.as_ref();
     json!({
         "converged": result.converged,
         "stop": result.stop.name(),
+        "method": o.method.name(),
+        "layout": result.layout.to_string(),
+        "parameter_estimates": estimate.map(|e| e.parameters.iter().map(|p| json!({
+            "name": p.name,
+            "value": p.value,
+            "sd": finite_or_null(p.sd),
+            "identified": p.identified,
+            "at_bound": p.at_bound,
+            "min": p.prior.min,
+            "max": p.prior.max,
+            "prior_sd": p.prior.sd,
+        })).collect::<Vec<_>>()),
+        "estimate": estimate.map(|e| json!({
+            "converged": e.converged,
+            "iterations": e.iterations,
+            "misfit_over_noise": e.misfit,
+            "damping": crate::model::describe_damping(e.damping),
+            "start": if e.start == 0 { "deck" } else { "first stage" },
+            "coarse_frequency_stage": e.coarse_stage,
+            "model_solutions": e.model_solutions,
+            "unseen_directions": e.missing_directions.iter().map(|(d, sd)| json!({
+                "sd": finite_or_null(*sd),
+                "direction": d.iter().map(|(n, v)| json!({"name": n, "component": v})).collect::<Vec<_>>(),
+            })).collect::<Vec<_>>(),
+        })),
         "final_iteration": result.final_iteration,
         "parameter_order": names,
         "parameters": named(names, result.parameters()),
@@ -351,4 +388,25 @@ fn csv_field(s: &str) -> String {
     } else {
         s.to_string()
     }
+}
+
+/// `estimates.csv`: the full-band estimate of each parameter with its
+/// uncertainty, bounds and prior.
+fn estimates_csv(est: &super::fullband::estimate::FullBandEstimate) -> String {
+    let mut s = String::from("parameter,value,sd,identified,at_bound,min,max,prior_sd\n");
+    for p in &est.parameters {
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{},{},{:e},{:e},{}",
+            p.name,
+            p.value,
+            p.sd,
+            p.identified,
+            p.at_bound,
+            p.prior.min,
+            p.prior.max,
+            p.prior.sd.map(|v| format!("{v:e}")).unwrap_or_default()
+        );
+    }
+    s
 }

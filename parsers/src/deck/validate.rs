@@ -500,7 +500,11 @@ pub(crate) fn validate(deck: &Deck) -> Result<(), DeckError> {
 fn param_bounds(out: &mut Issues, p: &super::Param) {
     for (key, v) in [("min", p.min), ("max", p.max), ("sd", p.sd)] {
         if v.is_some_and(|x| !x.is_finite()) {
-            out.push(p.pos, Arg::Key(key), format!("`{key}` must be a finite number"));
+            out.push(
+                p.pos,
+                Arg::Key(key),
+                format!("`{key}` must be a finite number"),
+            );
             return;
         }
     }

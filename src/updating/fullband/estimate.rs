@@ -29,9 +29,10 @@ use frfup_parsers::deck::Deck;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::data::TestData;
-use super::fit::{self, DampingState, Mask, ModalModel};
+use super::fit::{self, DampingState, Mask, ModalModel, ModalSolution};
+use super::jacobian;
 use super::FitError;
-use crate::model::{self, Damping, ParameterValues};
+use crate::model::{self, Damping, FeModel, ParameterValues};
 
 /// Default hard bounds of a relative change p̄ (a property between 0.1× and
 /// 11× its deck value).
@@ -39,6 +40,9 @@ pub const DEFAULT_MIN: f64 = -0.9;
 pub const DEFAULT_MAX: f64 = 10.0;
 /// A parameter whose standard deviation exceeds this is not identified.
 pub const UNIDENTIFIED_SD: f64 = 0.5;
+/// A decrease of Σr² below this many noise variances (J₀) ends the estimate:
+/// it would move no parameter by a noticeable fraction of its uncertainty.
+const NEGLIGIBLE: f64 = 0.05;
 /// Mean |ln(f_model/f_test)| above which the coarse frequency stage runs first.
 const COARSE_THRESHOLD: f64 = 0.02;
 
@@ -136,29 +140,33 @@ struct Objective<'a> {
     form: fit::DampingForm,
     /// √J₀, the scale of a prior row.
     prior_scale: f64,
-    cache: Option<(Vec<f64>, ModalModel)>,
+    cache: Option<(Vec<f64>, FeModel, ModalSolution)>,
     solutions: usize,
 }
 
 impl Objective<'_> {
     /// The modal model at structural parameters `p` (cached).
     fn modal(&mut self, p: &[f64]) -> Option<&ModalModel> {
-        let fresh = self.cache.as_ref().is_none_or(|(k, _)| k.as_slice() != p);
+        let fresh = self
+            .cache
+            .as_ref()
+            .is_none_or(|(k, _, _)| k.as_slice() != p);
         if fresh {
             let values: ParameterValues =
                 self.names.iter().cloned().zip(p.iter().copied()).collect();
             self.solutions += 1;
             let d = model::updated_deck(self.deck, &values);
-            let mm = fit::modal_model(&d, self.data).ok()?;
-            self.cache = Some((p.to_vec(), mm));
+            let fe = model::build(&d, &ParameterValues::new()).ok()?;
+            let sol = fit::modal_solution(&fe, self.data).ok()?;
+            self.cache = Some((p.to_vec(), fe, sol));
         }
-        self.cache.as_ref().map(|(_, mm)| mm)
+        self.cache.as_ref().map(|(_, _, s)| &s.model)
     }
 
     fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
         let np = self.names.len();
         self.modal(&x[..np])?;
-        let mm = &self.cache.as_ref()?.1;
+        let mm = &self.cache.as_ref()?.2.model;
         let pred = fit::predict(mm, self.form.damping(&x[np..]), self.data, &self.mask);
         let mut r = fit::residuals(&pred, self.data, &self.mask);
         for (j, pr) in self.priors.iter().enumerate() {
@@ -167,6 +175,45 @@ impl Objective<'_> {
             }
         }
         Some(r)
+    }
+
+    /// Columns ∂r/∂x: the parameters' analytically ([`jacobian`], one modal
+    /// solution, chain rule ∂q/∂p̄ = 1/(1 + p̄) from the deck as built to the
+    /// deck as given), the damping's by forward differences on the same modes.
+    fn jacobian(&mut self, x: &[f64], r: &[f64], lo: &[f64], hi: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let np = self.names.len();
+        self.modal(&x[..np])?;
+        let damping = self.form.damping(&x[np..]);
+        let (_, fe, sol) = self.cache.as_ref()?;
+        let pred = fit::predict(&sol.model, damping, self.data, &self.mask);
+        let mut cols = jacobian::parameter_columns(fe, sol, damping, self.data, &self.mask, &pred);
+        let data_n = self.data_rows(r.len());
+        if cols.iter().any(|c| c.len() != data_n) {
+            return fit::jacobian(&mut |y: &[f64]| self.residuals(y), x, r, lo, hi);
+        }
+        for (j, col) in cols.iter_mut().enumerate() {
+            let chain = 1.0 / (1.0 + x[j]);
+            col.iter_mut().for_each(|v| *v *= chain);
+            for (k, pr) in self.priors.iter().enumerate() {
+                if let Some(sd) = pr.sd {
+                    col.push(if k == j { self.prior_scale / sd } else { 0.0 });
+                }
+            }
+        }
+        for i in np..x.len() {
+            let mut h = 1e-4;
+            if x[i] + h > hi[i] && x[i] - h >= lo[i] {
+                h = -h;
+            }
+            let mut xp = x.to_vec();
+            xp[i] += h;
+            let rp = self.residuals(&xp)?;
+            if rp.len() != r.len() {
+                return None;
+            }
+            cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+        }
+        Some(cols)
     }
 
     /// Residual rows that come from the data (the rest are prior rows).
@@ -222,24 +269,42 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     let (lo, hi) = bounds(&priors, damp.form, req.data);
     let mut x0 = p.clone();
     x0.extend(damp.x.iter().copied());
-    let out = fit::lm(|x| obj.residuals(x), &x0, &lo, &hi, req.max_iter)
-        .ok_or_else(|| FitError::Eigen("the model could not be solved at the start".into()))?;
-    let (sd, missing) = uncertainty(&mut obj, &out.x, &out.residuals, &lo, &hi, j0);
+    // Parameters without a prior that the data do not determine keep the
+    // deck's value (p̄ = 0 within the bounds); the others are estimated again
+    // from there. Found at the optimum with every parameter free (at a far
+    // start the linearisation says little).
+    let all_free = vec![true; x0.len()];
+    let mut free = all_free.clone();
+    let mut out = minimise(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
+    let (mut sd, missing) = uncertainty(&mut obj, &out, &lo, &hi, &all_free, j0);
+    let mut iterations = out.iterations;
+    let unseen = unidentified(&sd, &priors, &free);
+    if !unseen.is_empty() {
+        let (mut lo2, mut hi2, mut x1) = (lo.clone(), hi.clone(), out.x.clone());
+        for &j in &unseen {
+            x1[j] = 0.0f64.clamp(lo[j], hi[j]);
+            (lo2[j], hi2[j], free[j]) = (x1[j], x1[j], false);
+        }
+        out = minimise(&mut obj, &x1, &lo2, &hi2, req.max_iter, j0)?;
+        iterations += out.iterations;
+        let (sd2, _) = uncertainty(&mut obj, &out, &lo2, &hi2, &free, j0);
+        for j in (0..np).filter(|&j| free[j]) {
+            sd[j] = sd2[j];
+        }
+    }
+    out.iterations = iterations;
     let data_n = obj.data_rows(out.residuals.len());
     let misfit = fit::mean_sq(&out.residuals[..data_n]) / j0;
     let parameters = (0..np)
         .map(|j| {
             let v = out.x[j];
-            let limit = priors[j]
-                .sd
-                .map_or(UNIDENTIFIED_SD, |s| (s / std::f64::consts::SQRT_2).min(UNIDENTIFIED_SD));
-            let at_bound = v <= priors[j].min + 1e-9 || v >= priors[j].max - 1e-9;
+            let at_bound = free[j] && (v <= priors[j].min + 1e-9 || v >= priors[j].max - 1e-9);
             ParameterEstimate {
                 name: names[j].clone(),
                 value: v,
                 sd: sd[j],
                 prior: priors[j],
-                identified: sd[j].is_finite() && sd[j] <= limit && !at_bound,
+                identified: free[j] && sd[j] <= identification_limit(&priors[j]),
                 at_bound,
             }
         })
@@ -249,7 +314,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         damping: damp.form.damping(&out.x[np..]),
         misfit,
         converged: out.converged,
-        iterations: out.iterations,
+        iterations,
         start,
         coarse_stage,
         missing_directions: missing
@@ -258,6 +323,40 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
             .collect(),
         model_solutions: obj.solutions,
     })
+}
+
+/// Free parameters without a prior whose standard deviation exceeds the limit.
+fn unidentified(sd: &[f64], priors: &[ParameterPrior], free: &[bool]) -> Vec<usize> {
+    (0..priors.len())
+        .filter(|&j| {
+            free[j] && priors[j].sd.is_none() && !(sd[j] <= identification_limit(&priors[j]))
+        })
+        .collect()
+}
+
+/// The standard deviation above which a parameter is not identified:
+/// [`UNIDENTIFIED_SD`], or s/√2 for a prior of sd s (the data did not halve
+/// the prior's variance).
+fn identification_limit(prior: &ParameterPrior) -> f64 {
+    prior.sd.map_or(UNIDENTIFIED_SD, |s| {
+        (s / std::f64::consts::SQRT_2).min(UNIDENTIFIED_SD)
+    })
+}
+
+/// Bounded Levenberg–Marquardt on F from `x0`, with the analytic Jacobian.
+fn minimise(
+    obj: &mut Objective,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+    j0: f64,
+) -> Result<fit::LmOutcome, FitError> {
+    let cell = std::cell::RefCell::new(obj);
+    let mut f = |x: &[f64]| cell.borrow_mut().residuals(x);
+    let mut jac = |_: &mut _, x: &[f64], r: &[f64]| cell.borrow_mut().jacobian(x, r, lo, hi);
+    fit::lm_with(&mut f, &mut jac, x0, lo, hi, max_iter, NEGLIGIBLE * j0)
+        .ok_or_else(|| FitError::Eigen("the model could not be solved at the start".into()))
 }
 
 /// Hard bounds of x = [p̄, damping logs].
@@ -299,22 +398,15 @@ fn coarse_frequencies(obj: &mut Objective, p: &mut Vec<f64>, damp: &mut DampingS
     ));
     let lo: Vec<f64> = obj.priors.iter().map(|q| q.min).collect();
     let hi: Vec<f64> = obj.priors.iter().map(|q| q.max).collect();
-    let priors = obj.priors.clone();
-    let f = |x: &[f64]| -> Option<Vec<f64>> {
-        let mm = obj.modal(x)?;
-        let mut r = fit::frequency_residuals(mm, data);
-        // A prior row in frequency units: 1 % of frequency per prior sd.
-        for (j, pr) in priors.iter().enumerate() {
-            if let Some(sd) = pr.sd {
-                r.push(0.01 * x[j] / sd);
-            }
-        }
-        Some(r)
-    };
-    let Some(out) = fit::lm(f, p, &lo, &hi, 20) else {
+    let cell = std::cell::RefCell::new(&mut *obj);
+    let mut f = |x: &[f64]| cell.borrow_mut().frequency_rows(x);
+    let mut jac = |_: &mut _, x: &[f64], _: &[f64]| cell.borrow_mut().frequency_jacobian(x);
+    let Some(out) = fit::lm_with(&mut f, &mut jac, p, &lo, &hi, 20, 1e-10) else {
         return false;
     };
-    let Some(mm) = obj.modal(&out.x) else { return false };
+    let Some(mm) = obj.modal(&out.x) else {
+        return false;
+    };
     let (d, r) = fit::fit_damping(mm, damp, data, &mask, 20);
     if fit::mean_sq(&r) < before {
         *p = out.x;
@@ -325,23 +417,86 @@ fn coarse_frequencies(obj: &mut Objective, p: &mut Vec<f64>, damp: &mut DampingS
     }
 }
 
-/// Standard deviations of p̄ (sandwich covariance) and the unseen directions
-/// (eigenvectors of the data information, with their standard deviation).
+/// Scale of a prior row in the coarse stage: 1 % of frequency per prior sd.
+const COARSE_PRIOR: f64 = 0.01;
+
+impl Objective<'_> {
+    /// Coarse-stage residuals: ln(ω_model/ω_test) per resonance, then the priors.
+    fn frequency_rows(&mut self, p: &[f64]) -> Option<Vec<f64>> {
+        let data = self.data;
+        let mut r = fit::frequency_residuals(self.modal(p)?, data);
+        for (j, pr) in self.priors.iter().enumerate() {
+            if let Some(sd) = pr.sd {
+                r.push(COARSE_PRIOR * p[j] / sd);
+            }
+        }
+        Some(r)
+    }
+
+    /// ∂/∂p̄ of [`Self::frequency_rows`]: ∂ln ω_r = ∂λ_r / 2λ_r with
+    /// ∂λ_r = φ_rᵀ(∂K − λ_r∂M)φ_r, times the chain factor 1/(1 + p̄).
+    fn frequency_jacobian(&mut self, p: &[f64]) -> Option<Vec<Vec<f64>>> {
+        let data = self.data;
+        let align = fit::frequency_alignment(self.modal(p)?, data);
+        let (_, fe, sol) = self.cache.as_ref()?;
+        let paired: Vec<usize> = align.iter().filter_map(|a| a.1).collect();
+        let sens = crate::updating::sensitivity::ModalSensitivities::project(
+            &fe.parameters,
+            sol.modes.shapes.as_ref(),
+            &paired,
+        );
+        let mut cols = Vec::with_capacity(p.len());
+        for j in 0..p.len() {
+            let chain = 1.0 / (1.0 + p[j]);
+            let mut col = Vec::with_capacity(align.len());
+            let mut k = 0;
+            for a in &align {
+                match a.1 {
+                    Some(r) => {
+                        let lam = sol.modes.omega2[r];
+                        let dl = sens.dk[j][(k, k)] - lam * sens.dm[j][(k, k)];
+                        col.push(if lam > 0.0 {
+                            chain * dl / (2.0 * lam)
+                        } else {
+                            0.0
+                        });
+                        k += 1;
+                    }
+                    None => col.push(0.0),
+                }
+            }
+            for (i, pr) in self.priors.iter().enumerate() {
+                if let Some(sd) = pr.sd {
+                    col.push(if i == j { COARSE_PRIOR / sd } else { 0.0 });
+                }
+            }
+            cols.push(col);
+        }
+        Some(cols)
+    }
+}
+
+/// Standard deviations of p̄ (sandwich covariance, over the `free`
+/// unknowns; fixed ones get ∞) and the unseen directions (eigenvectors of the
+/// data information over the free parameters, with their standard
+/// deviation; components over all parameters).
 #[allow(clippy::type_complexity)]
 fn uncertainty(
     obj: &mut Objective,
-    x: &[f64],
-    r: &[f64],
+    out: &fit::LmOutcome,
     lo: &[f64],
     hi: &[f64],
+    free: &[bool],
     j0: f64,
 ) -> (Vec<f64>, Vec<(Vec<f64>, f64)>) {
+    let (x, r) = (&out.x, &out.residuals);
     let np = obj.names.len();
-    let n = x.len();
     let nan = (vec![f64::INFINITY; np], Vec::new());
-    let Some(jac) = fit::jacobian(&mut |y: &[f64]| obj.residuals(y), x, r, lo, hi) else {
+    let Some(jac) = obj.jacobian(x, r, lo, hi) else {
         return nan;
     };
+    let idx: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
+    let n = idx.len();
     let total = r.len();
     let data_n = obj.data_rows(total);
     let mut h = DMatrix::<f64>::zeros(n, n);
@@ -351,37 +506,50 @@ fn uncertainty(
     let correction = data_n as f64 / dof;
     let s2 = r[..data_n].iter().map(|v| v * v).sum::<f64>() / dof;
     for i in 0..total {
-        for a in 0..n {
-            let ja = jac[a][i];
+        for (a, &ia) in idx.iter().enumerate() {
+            let ja = jac[ia][i];
             if ja == 0.0 {
                 continue;
             }
-            for c in 0..n {
-                let jc = jac[c][i];
+            for (c, &ic) in idx.iter().enumerate() {
+                let jc = jac[ic][i];
                 h[(a, c)] += ja * jc;
                 if i < data_n {
                     b[(a, c)] += ja * jc * r[i] * r[i] * correction;
                     info[(a, c)] += ja * jc;
                 } else {
-                    // A prior row: expected r² from the prior itself is J₀.
+                    // A prior row: its expected r² under the prior is J₀.
                     b[(a, c)] += ja * jc * j0;
                 }
             }
         }
     }
-    let Some(hinv) = h.clone().try_inverse() else {
+    let Some(hinv) = h.try_inverse() else {
         return nan;
     };
     let cov = &hinv * b * &hinv;
-    let sd: Vec<f64> = (0..np).map(|j| cov[(j, j)].max(0.0).sqrt()).collect();
+    let mut sd = vec![f64::INFINITY; np];
+    for (a, &ia) in idx.iter().enumerate() {
+        if ia < np {
+            sd[ia] = cov[(a, a)].max(0.0).sqrt();
+        }
+    }
     // Unseen directions: the structural block of the data information.
-    let info_p = info.view((0, 0), (np, np)).into_owned() / s2.max(1e-300);
+    let ip: Vec<usize> = (0..n).filter(|&a| idx[a] < np).collect();
+    let info_p = DMatrix::from_fn(ip.len(), ip.len(), |a, c| info[(ip[a], ip[c])]) / s2.max(1e-300);
     let eig = SymmetricEigen::new(info_p);
     let mut missing = Vec::new();
     for (k, &lam) in eig.eigenvalues.iter().enumerate() {
-        let s = if lam > 0.0 { 1.0 / lam.sqrt() } else { f64::INFINITY };
+        let s = if lam > 0.0 {
+            1.0 / lam.sqrt()
+        } else {
+            f64::INFINITY
+        };
         if s > UNIDENTIFIED_SD {
-            let v: Vec<f64> = eig.eigenvectors.column(k).iter().copied().collect();
+            let mut v = vec![0.0; np];
+            for (a, &pa) in ip.iter().enumerate() {
+                v[idx[pa]] = eig.eigenvectors[(a, k)];
+            }
             missing.push((v, s));
         }
     }
@@ -392,10 +560,11 @@ fn uncertainty(
 /// A direction as (name, component) pairs, largest component +1, terms of
 /// at least 0.1 of it.
 fn named_direction(names: &[String], v: &[f64]) -> Vec<(String, f64)> {
-    let (imax, vmax) = v
-        .iter()
-        .enumerate()
-        .fold((0, 0.0f64), |a, (i, x)| if x.abs() > a.1.abs() { (i, *x) } else { a });
+    let (imax, vmax) =
+        v.iter().enumerate().fold(
+            (0, 0.0f64),
+            |a, (i, x)| if x.abs() > a.1.abs() { (i, *x) } else { a },
+        );
     let _ = imax;
     if vmax == 0.0 {
         return Vec::new();

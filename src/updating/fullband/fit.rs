@@ -19,7 +19,7 @@ use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
 use super::FitError as DiagnoseError;
-use crate::model::{self, Damping, ParameterValues};
+use crate::model::{self, Damping, FeModel, ParameterValues};
 use crate::solvers::eigen::{self, EigenOptions, Modes};
 use crate::solvers::frf;
 
@@ -75,6 +75,24 @@ pub struct ModalModel {
 /// at the channels of `data`.
 pub fn modal_model(deck: &Deck, data: &TestData) -> Result<ModalModel, DiagnoseError> {
     let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    Ok(modal_solution(&fe, data)?.model)
+}
+
+/// A modal model with what its derivatives need: the modes and where the
+/// channels and the excitation sit among the model's equations.
+pub struct ModalSolution {
+    pub model: ModalModel,
+    pub modes: Modes,
+    /// Equation of each channel's response DOF, and of the excitation.
+    pub outputs: Vec<usize>,
+    pub input: usize,
+    /// sign_c of each channel (response sign × excitation sign).
+    pub signs: Vec<f64>,
+}
+
+/// The modal model of `fe` at the channels of `data`: the lowest modes up to
+/// 2.5·ω_max plus the static residual of the others.
+pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, DiagnoseError> {
     let (input, in_sign) = fe.measured_dof(data.input.0, data.input.1).ok_or_else(|| {
         DiagnoseError::Data(format!(
             "the excitation {} is not a free DOF of the model",
@@ -126,12 +144,18 @@ pub fn modal_model(deck: &Deck, data: &TestData) -> Result<ModalModel, DiagnoseE
         })
         .collect();
     let residual = residual.iter().zip(&signs).map(|(r, s)| r * s).collect();
-    Ok(ModalModel {
-        dofs: n,
-        frequencies_hz: modes.frequencies_hz(),
-        omega2: modes.omega2,
-        coeff,
-        residual,
+    Ok(ModalSolution {
+        model: ModalModel {
+            dofs: n,
+            frequencies_hz: modes.frequencies_hz(),
+            omega2: modes.omega2.clone(),
+            coeff,
+            residual,
+        },
+        modes,
+        outputs,
+        input,
+        signs,
     })
 }
 
@@ -340,13 +364,33 @@ pub fn lm<F>(mut f: F, x0: &[f64], lo: &[f64], hi: &[f64], max_iter: usize) -> O
 where
     F: FnMut(&[f64]) -> Option<Vec<f64>>,
 {
+    let mut fd = |f: &mut F, x: &[f64], r: &[f64]| jacobian(f, x, r, lo, hi);
+    lm_with(&mut f, &mut fd, x0, lo, hi, max_iter, 0.0)
+}
+
+/// [`lm`] with the Jacobian from `jac(f, x, r)` (columns ∂r/∂x_i); it also
+/// stops once a step lowers Σr² by less than `negligible` (e.g. a small
+/// fraction of the noise variance of one residual: a change no data can tell).
+pub fn lm_with<F, G>(
+    f: &mut F,
+    jac: &mut G,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+    negligible: f64,
+) -> Option<LmOutcome>
+where
+    F: FnMut(&[f64]) -> Option<Vec<f64>>,
+    G: FnMut(&mut F, &[f64], &[f64]) -> Option<Vec<Vec<f64>>>,
+{
     let p = x0.len();
     let mut x: Vec<f64> = (0..p).map(|i| x0[i].clamp(lo[i], hi[i])).collect();
     let mut r = f(&x)?;
     let mut cost: f64 = r.iter().map(|v| v * v).sum();
     let mut lambda = 1e-3;
     for it in 0..max_iter {
-        let jac = jacobian(&mut f, &x, &r, lo, hi)?;
+        let jac = jac(f, &x, &r)?;
         let (jtj, jtr) = normal(&jac, &r);
         let mut improved = false;
         for _ in 0..8 {
@@ -368,13 +412,17 @@ where
             let cn: f64 = rn.iter().map(|v| v * v).sum();
             if cn < cost {
                 let rel = (cost - cn) / cost.max(1e-300);
+                let gain = cost - cn;
+                if std::env::var_os("FRFUP_DEBUG_LM").is_some() {
+                    eprintln!("lm {it} cost {cost:.6e} -> {cn:.6e} lambda {lambda:.1e} neg {negligible:.3e}");
+                }
                 let moved = (0..p).map(|i| (xn[i] - x[i]).abs()).fold(0.0, f64::max);
                 x = xn;
                 r = rn;
                 cost = cn;
                 lambda = (lambda / 3.0).max(1e-9);
                 improved = true;
-                if rel < 1e-7 || moved < 1e-6 {
+                if rel < 1e-7 || moved < 1e-6 || gain < negligible {
                     return Some(LmOutcome {
                         x,
                         residuals: r,
@@ -600,9 +648,17 @@ const FREQ_CAP: f64 = std::f64::consts::LN_2;
 /// peak in the measured kind, |a_cr|·ω_r^(order−2) for equal damping, reaches
 /// 10⁻³ of the largest one (an axial mode under transverse sensors does not).
 pub fn visible_omegas(mm: &ModalModel, data: &TestData) -> Vec<f64> {
+    visible_modes(mm, data)
+        .into_iter()
+        .map(|(_, w)| w)
+        .collect()
+}
+
+/// [`visible_omegas`] with each mode's index in `mm`.
+pub fn visible_modes(mm: &ModalModel, data: &TestData) -> Vec<(usize, f64)> {
     let w_lo = 0.5 * data.omegas.first().copied().unwrap_or(0.0);
     let w_hi = 1.5 * data.omegas.last().copied().unwrap_or(0.0);
-    let peaks: Vec<(f64, f64)> = mm
+    let peaks: Vec<(usize, f64, f64)> = mm
         .omega2
         .iter()
         .enumerate()
@@ -612,14 +668,14 @@ pub fn visible_omegas(mm: &ModalModel, data: &TestData) -> Vec<f64> {
                 return None;
             }
             let a = mm.coeff.iter().map(|c| c[r].abs()).fold(0.0, f64::max);
-            Some((w, a * w.powi(data.order - 2)))
+            Some((r, w, a * w.powi(data.order - 2)))
         })
         .collect();
-    let top = peaks.iter().map(|p| p.1).fold(0.0, f64::max);
+    let top = peaks.iter().map(|p| p.2).fold(0.0, f64::max);
     peaks
         .into_iter()
-        .filter(|p| p.1 > 1e-3 * top)
-        .map(|p| p.0)
+        .filter(|p| p.2 > 1e-3 * top)
+        .map(|p| (p.0, p.1))
         .collect()
 }
 
@@ -631,12 +687,22 @@ pub fn visible_omegas(mm: &ModalModel, data: &TestData) -> Vec<f64> {
 /// changes, unlike the FRF misfit, which is flat or rough when peaks are far
 /// apart: this is the coarse stage of a fit.
 pub fn frequency_residuals(mm: &ModalModel, data: &TestData) -> Vec<f64> {
+    frequency_alignment(mm, data)
+        .into_iter()
+        .map(|(r, _)| r)
+        .collect()
+}
+
+/// [`frequency_residuals`] with the index (in `mm`) of the mode each
+/// resonance is paired with (`None`: unpaired, or the misfit is capped).
+pub fn frequency_alignment(mm: &ModalModel, data: &TestData) -> Vec<(f64, Option<usize>)> {
     let test: Vec<f64> = data
         .resonances
         .iter()
         .map(|r| 2.0 * std::f64::consts::PI * r.frequency_hz)
         .collect();
-    let model = visible_omegas(mm, data);
+    let visible = visible_modes(mm, data);
+    let model: Vec<f64> = visible.iter().map(|v| v.1).collect();
     let (n, k) = (test.len(), model.len());
     let cap2 = FREQ_CAP * FREQ_CAP;
     let pair = |i: usize, j: usize| (model[j] / test[i]).ln().clamp(-FREQ_CAP, FREQ_CAP);
@@ -651,12 +717,14 @@ pub fn frequency_residuals(mm: &ModalModel, data: &TestData) -> Vec<f64> {
             cost[i][j] = skip_mode.min(skip_test).min(matched);
         }
     }
-    let mut r = vec![FREQ_CAP; n];
+    let mut r = vec![(FREQ_CAP, None); n];
     let (mut i, mut j) = (n, k);
     while i > 0 && j > 0 {
         let here = cost[i][j];
         if here == cost[i - 1][j - 1] + pair(i - 1, j - 1).powi(2) {
-            r[i - 1] = pair(i - 1, j - 1);
+            let v = pair(i - 1, j - 1);
+            let capped = v.abs() >= FREQ_CAP;
+            r[i - 1] = (v, (!capped).then_some(visible[j - 1].0));
             i -= 1;
             j -= 1;
         } else if here == cost[i][j - 1] {

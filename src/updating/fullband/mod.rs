@@ -10,6 +10,7 @@
 pub mod data;
 pub mod estimate;
 pub mod fit;
+pub mod jacobian;
 
 use std::fmt;
 
