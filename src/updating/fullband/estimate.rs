@@ -40,6 +40,8 @@ pub const DEFAULT_MIN: f64 = -0.9;
 pub const DEFAULT_MAX: f64 = 10.0;
 /// A parameter whose standard deviation exceeds this is not identified.
 pub const UNIDENTIFIED_SD: f64 = 0.5;
+/// The weak prior of the first pass on parameters without one (see [`estimate`]).
+const WEAK_PRIOR_SD: f64 = 1.0;
 /// A decrease of Σr² below this many noise variances (J₀) ends the estimate:
 /// it would move no parameter by a noticeable fraction of its uncertainty.
 const NEGLIGIBLE: f64 = 0.05;
@@ -273,25 +275,38 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     // deck's value (p̄ = 0 within the bounds); the others are estimated again
     // from there. Found at the optimum with every parameter free (at a far
     // start the linearisation says little).
+    // Pass 1 with a weak prior (sd WEAK_PRIOR_SD) on the parameters that have
+    // none: a direction the data cannot see then has a minimum instead of a
+    // valley to creep along. The parameters whose data-only standard
+    // deviation exceeds the limit are not identified: they keep the deck's
+    // value (p̄ = 0 within the bounds). Pass 2, without the weak prior, from
+    // there: the estimate and its uncertainty.
     let all_free = vec![true; x0.len()];
     let mut free = all_free.clone();
-    let mut out = minimise(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
-    let (mut sd, missing) = uncertainty(&mut obj, &out, &lo, &hi, &all_free, j0);
-    let mut iterations = out.iterations;
-    let unseen = unidentified(&sd, &priors, &free);
-    if !unseen.is_empty() {
-        let (mut lo2, mut hi2, mut x1) = (lo.clone(), hi.clone(), out.x.clone());
-        for &j in &unseen {
-            x1[j] = 0.0f64.clamp(lo[j], hi[j]);
-            (lo2[j], hi2[j], free[j]) = (x1[j], x1[j], false);
-        }
-        out = minimise(&mut obj, &x1, &lo2, &hi2, req.max_iter, j0)?;
-        iterations += out.iterations;
-        let (sd2, _) = uncertainty(&mut obj, &out, &lo2, &hi2, &free, j0);
-        for j in (0..np).filter(|&j| free[j]) {
-            sd[j] = sd2[j];
-        }
+    obj.priors = priors
+        .iter()
+        .map(|p| ParameterPrior {
+            sd: p.sd.or(Some(WEAK_PRIOR_SD)),
+            ..*p
+        })
+        .collect();
+    let first = minimise(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
+    let seen = uncertainty(&mut obj, &first, &lo, &hi, &all_free, j0);
+    let missing = seen.missing.clone();
+    let unseen = unidentified(&seen.sd_data, &priors, &free);
+    obj.priors = priors.clone();
+    let (mut lo2, mut hi2) = (lo.clone(), hi.clone());
+    let mut x1 = first.x[..x0.len()].to_vec();
+    for &j in &unseen {
+        x1[j] = 0.0f64.clamp(lo[j], hi[j]);
+        (lo2[j], hi2[j], free[j]) = (x1[j], x1[j], false);
     }
+    let mut out = minimise(&mut obj, &x1, &lo2, &hi2, req.max_iter, j0)?;
+    let mut sd = uncertainty(&mut obj, &out, &lo2, &hi2, &free, j0).sd;
+    for &j in &unseen {
+        sd[j] = seen.sd_data[j];
+    }
+    let iterations = first.iterations + out.iterations;
     out.iterations = iterations;
     let data_n = obj.data_rows(out.residuals.len());
     let misfit = fit::mean_sq(&out.residuals[..data_n]) / j0;
@@ -476,11 +491,20 @@ impl Objective<'_> {
     }
 }
 
-/// Standard deviations of p̄ (sandwich covariance, over the `free`
-/// unknowns; fixed ones get ∞) and the unseen directions (eigenvectors of the
-/// data information over the free parameters, with their standard
-/// deviation; components over all parameters).
-#[allow(clippy::type_complexity)]
+/// What the data say about the parameters at a point.
+struct Uncertainty {
+    /// Posterior standard deviation (sandwich covariance over the free
+    /// unknowns; ∞ for fixed ones).
+    sd: Vec<f64>,
+    /// Standard deviation from the data alone, ŝ²(JᵀJ)⁻¹ over the free
+    /// unknowns' data rows (∞ where the data see nothing).
+    sd_data: Vec<f64>,
+    /// Eigenvectors of the data information over the free parameters whose
+    /// standard deviation 1/√λ exceeds [`UNIDENTIFIED_SD`] (components over
+    /// all parameters), with that standard deviation, largest first.
+    missing: Vec<(Vec<f64>, f64)>,
+}
+
 fn uncertainty(
     obj: &mut Objective,
     out: &fit::LmOutcome,
@@ -488,12 +512,16 @@ fn uncertainty(
     hi: &[f64],
     free: &[bool],
     j0: f64,
-) -> (Vec<f64>, Vec<(Vec<f64>, f64)>) {
+) -> Uncertainty {
     let (x, r) = (&out.x, &out.residuals);
     let np = obj.names.len();
-    let nan = (vec![f64::INFINITY; np], Vec::new());
+    let mut u = Uncertainty {
+        sd: vec![f64::INFINITY; np],
+        sd_data: vec![f64::INFINITY; np],
+        missing: Vec::new(),
+    };
     let Some(jac) = obj.jacobian(x, r, lo, hi) else {
-        return nan;
+        return u;
     };
     let idx: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
     let n = idx.len();
@@ -504,7 +532,7 @@ fn uncertainty(
     let mut info = DMatrix::<f64>::zeros(n, n);
     let dof = (data_n as f64 - n as f64).max(1.0);
     let correction = data_n as f64 / dof;
-    let s2 = r[..data_n].iter().map(|v| v * v).sum::<f64>() / dof;
+    let s2 = (r[..data_n].iter().map(|v| v * v).sum::<f64>() / dof).max(1e-300);
     for i in 0..total {
         for (a, &ia) in idx.iter().enumerate() {
             let ja = jac[ia][i];
@@ -524,37 +552,50 @@ fn uncertainty(
             }
         }
     }
-    let Some(hinv) = h.try_inverse() else {
-        return nan;
-    };
-    let cov = &hinv * b * &hinv;
-    let mut sd = vec![f64::INFINITY; np];
-    for (a, &ia) in idx.iter().enumerate() {
-        if ia < np {
-            sd[ia] = cov[(a, a)].max(0.0).sqrt();
+    if let Some(hinv) = h.try_inverse() {
+        let cov = &hinv * b * &hinv;
+        for (a, &ia) in idx.iter().enumerate() {
+            if ia < np {
+                u.sd[ia] = cov[(a, a)].max(0.0).sqrt();
+            }
         }
     }
-    // Unseen directions: the structural block of the data information.
+    // The data's information over the free structural parameters.
     let ip: Vec<usize> = (0..n).filter(|&a| idx[a] < np).collect();
-    let info_p = DMatrix::from_fn(ip.len(), ip.len(), |a, c| info[(ip[a], ip[c])]) / s2.max(1e-300);
+    let info_p = DMatrix::from_fn(ip.len(), ip.len(), |a, c| info[(ip[a], ip[c])]) / s2;
     let eig = SymmetricEigen::new(info_p);
-    let mut missing = Vec::new();
+    let floor = eig.eigenvalues.iter().fold(0.0f64, |m, l| m.max(l.abs())) * 1e-14;
+    for (a, &pa) in ip.iter().enumerate() {
+        // (info⁻¹)_aa by the eigen-decomposition, ∞ along null directions.
+        let mut var = 0.0;
+        for (k, &lam) in eig.eigenvalues.iter().enumerate() {
+            let v = eig.eigenvectors[(a, k)];
+            if v * v > 1e-20 {
+                var += if lam > floor {
+                    v * v / lam
+                } else {
+                    f64::INFINITY
+                };
+            }
+        }
+        u.sd_data[idx[pa]] = var.sqrt();
+    }
     for (k, &lam) in eig.eigenvalues.iter().enumerate() {
-        let s = if lam > 0.0 {
+        let sd = if lam > floor {
             1.0 / lam.sqrt()
         } else {
             f64::INFINITY
         };
-        if s > UNIDENTIFIED_SD {
+        if sd > UNIDENTIFIED_SD {
             let mut v = vec![0.0; np];
             for (a, &pa) in ip.iter().enumerate() {
                 v[idx[pa]] = eig.eigenvectors[(a, k)];
             }
-            missing.push((v, s));
+            u.missing.push((v, sd));
         }
     }
-    missing.sort_by(|a, b| b.1.total_cmp(&a.1));
-    (sd, missing)
+    u.missing.sort_by(|a, b| b.1.total_cmp(&a.1));
+    u
 }
 
 /// A direction as (name, component) pairs, largest component +1, terms of
