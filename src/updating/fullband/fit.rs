@@ -413,9 +413,6 @@ where
             if cn < cost {
                 let rel = (cost - cn) / cost.max(1e-300);
                 let gain = cost - cn;
-                if std::env::var_os("FRFUP_DEBUG_LM").is_some() {
-                    eprintln!("lm {it} cost {cost:.6e} -> {cn:.6e} lambda {lambda:.1e} neg {negligible:.3e}");
-                }
                 let moved = (0..p).map(|i| (xn[i] - x[i]).abs()).fold(0.0, f64::max);
                 x = xn;
                 r = rn;
