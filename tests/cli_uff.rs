@@ -1,5 +1,5 @@
 //! The ingest commands end to end: `frfup info` and `frfup convert` on the real
-//! fixtures in ../shared, exit codes and messages on bad input, no partial output.
+//! fixtures in fixtures/uff-real, exit codes and messages on bad input, no partial output.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -9,7 +9,7 @@ use frfup::testdata::{self, Channel, FrfKind, MeasuredFrfs};
 
 fn shared(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/fixtures/uff-real")
+        .join("fixtures/uff-real")
         .join(rel)
 }
 

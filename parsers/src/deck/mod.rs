@@ -1,5 +1,5 @@
 //! The model deck (`.deck`, version 1): see `docs/deck.md` and
-//! `/work/shared/spec/deck.md` (the contract).
+//! `docs/spec/deck.md` (the contract).
 //!
 //! [`parse`] reads a deck into a typed [`Deck`] in two passes: a nom-based
 //! syntax pass (one statement per line) and a semantic pass ([`Deck::validate`])
