@@ -24,6 +24,7 @@ where
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".to_string());
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let _guard = Temporary::register(&tmp);
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
         let mut buf = std::io::BufWriter::with_capacity(1 << 20, file);
@@ -173,6 +174,7 @@ where
     E: From<std::io::Error>,
 {
     let tmp = sibling_tmp(target);
+    let _guard = Temporary::register(&tmp);
     let _ = std::fs::remove_dir_all(&tmp);
     std::fs::create_dir_all(&tmp)?;
     let result = fill(&tmp).and_then(|value| {
@@ -197,4 +199,76 @@ fn move_into(tmp: &Path, target: &Path) -> std::io::Result<()> {
         }
     }
     Ok(())
+}
+
+/// Temporary files and folders being written, removed if SIGINT or SIGTERM
+/// ends the process (see [`remove_temporaries_on_signals`]).
+static TEMPORARIES: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A registered temporary path; unregistered when dropped.
+struct Temporary(std::path::PathBuf);
+
+impl Temporary {
+    fn register(path: &Path) -> Temporary {
+        if let Ok(mut list) = TEMPORARIES.lock() {
+            list.push(path.to_path_buf());
+        }
+        Temporary(path.to_path_buf())
+    }
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if let Ok(mut list) = TEMPORARIES.lock() {
+            if let Some(i) = list.iter().position(|p| *p == self.0) {
+                list.swap_remove(i);
+            }
+        }
+    }
+}
+
+/// Remove every temporary file or folder still being written.
+pub fn remove_temporaries() {
+    let list = match TEMPORARIES.lock() {
+        Ok(mut list) => std::mem::take(&mut *list),
+        Err(_) => return,
+    };
+    for p in list {
+        if p.is_dir() {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// On SIGINT or SIGTERM, remove the temporaries being written and exit with
+/// 128 + the signal's number, as the shell reports a killed process. Call it
+/// first in `main`, before any other thread starts: the two signals are
+/// blocked in every thread and taken by one thread with `sigwait` (no work
+/// in a signal handler; `libc` is already a dependency).
+pub fn remove_temporaries_on_signals() {
+    // SAFETY: sigset_t is plain data initialised by sigemptyset/sigaddset;
+    // pthread_sigmask and sigwait only read it.
+    unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        libc::sigaddset(&mut set, libc::SIGINT);
+        libc::sigaddset(&mut set, libc::SIGTERM);
+        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
+            return;
+        }
+        let spawned = std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                let mut sig: libc::c_int = 0;
+                if libc::sigwait(&set, &mut sig) == 0 {
+                    remove_temporaries();
+                    std::process::exit(128 + sig);
+                }
+            });
+        if spawned.is_err() {
+            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+        }
+    }
 }

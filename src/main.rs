@@ -605,6 +605,8 @@ fn check_thresholds(
 }
 
 fn main() -> ExitCode {
+    // Ctrl-C or a kill leaves no hidden temporary file or folder behind.
+    frfup::fsio::remove_temporaries_on_signals();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

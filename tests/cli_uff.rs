@@ -363,6 +363,11 @@ fn info_json_key_set_is_exact() {
         "units",
         "numerator_data_type",
         "denominator_data_type",
+        // channels named by entity names only (node 0): the names, everywhere
+        "response",
+        "reference",
+        "response_entity",
+        "reference_entity",
     ]);
     let other = sorted(&["index", "dataset", "line", "summary"]);
     for (i, r) in records.iter().enumerate() {

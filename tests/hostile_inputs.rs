@@ -580,7 +580,7 @@ fn misleading_deck_messages_name_the_real_cause() {
         (
             "comments.deck",
             "# nothing\n\n# here\n".into(),
-            vec![":1:1:", "no `node` or `beam` statement"],
+            vec![":1:1:", "no `node` statement"],
         ),
         (
             "far.deck",
@@ -675,4 +675,53 @@ fn update_writes_its_folder_whole_and_leaves_no_temporary() {
     for f in ["report.json", "parameters.csv", "updated.deck", "report.md"] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
+}
+
+#[test]
+fn ctrl_c_while_writing_leaves_no_temporary_file() {
+    let dir = tmp_dir().join("sigint");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.uff");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_frfup"))
+        .args([
+            "--quiet",
+            "simulate",
+            &fixture("fixtures/garteur/garteur.deck"),
+            "--input",
+            "112:3",
+            "--band",
+            "1:200:60000",
+            "--out",
+            p(&out),
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let tmp = dir.join(format!(".big.uff.{}.tmp", child.id()));
+    let start = Instant::now();
+    let mut seen = false;
+    while start.elapsed() < Duration::from_secs(240) {
+        if tmp.exists() {
+            seen = true;
+            break;
+        }
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(
+        seen,
+        "the temporary file never appeared (the run ended first?)"
+    );
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{status:?}");
+    assert!(!tmp.exists(), "{tmp:?} was left behind");
+    assert!(!out.exists());
 }

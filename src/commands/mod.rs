@@ -137,8 +137,24 @@ pub fn read_deck(path: &std::path::Path) -> Result<frfup_parsers::deck::Deck, Co
             path.display()
         ))
     })?;
-    frfup_parsers::deck::parse(&text)
-        .map_err(|e| CommandError::input(format!("{}:{e}", path.display())))
+    let deck = frfup_parsers::deck::parse(&text)
+        .map_err(|e| CommandError::input(format!("{}:{e}", path.display())))?;
+    if deck.nodes.is_empty() {
+        // Said here rather than as "no free degree of freedom" by the model.
+        let lines = text.lines().count();
+        return Err(CommandError::input(if text.trim().is_empty() {
+            format!(
+                "{}:1:1: the deck is empty: expected `material`, `section`, `node` and `beam` statements (see docs/deck.md)",
+                path.display()
+            )
+        } else {
+            format!(
+                "{}:1:1: the deck's {lines} line(s) hold no `node` statement (only comments, titles or settings): expected a model (see docs/deck.md)",
+                path.display()
+            )
+        }));
+    }
+    Ok(deck)
 }
 
 /// A model-building error, prefixed with the deck's file name

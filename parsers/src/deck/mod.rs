@@ -502,17 +502,6 @@ pub fn parse(text: &str) -> Result<Deck, DeckError> {
     check_characters(text)?;
     let deck = statements::parse_statements(text)?;
     validate::first_error(&deck, Some(text))?;
-    if deck.nodes.is_empty() && deck.beams.is_empty() {
-        let lines = text.lines().count();
-        return Err(DeckError::new(
-            Pos::new(1, 1),
-            if lines == 0 || text.trim().is_empty() {
-                "the deck is empty: expected `node`, `beam`, `material` and `section` statements (see docs/deck.md)".to_string()
-            } else {
-                format!("the deck's {lines} line(s) hold no `node` or `beam` statement (only comments, titles or settings): expected a model (see docs/deck.md)")
-            },
-        ));
-    }
     Ok(deck)
 }
 
