@@ -402,9 +402,12 @@ pub(crate) fn from_triplets(
 /// Largest coordinate (m) a deck may give: beyond it squares of lengths lose
 /// all precision (and overflow near 1e154), so it can only be a unit error.
 const MAX_COORDINATE: f64 = 1e9;
-/// Largest E or G (Pa): diamond is about 1.2e12 Pa; a "rigid" link is
-/// modelled stiff enough well below this.
-const MAX_MODULUS: f64 = 1e15;
+/// Largest E (Pa): diamond is about 1.2e12 Pa, and a "rigid" link is stiff
+/// enough well below this; 1e308 gives frequencies of 1e148 Hz.
+const MAX_MODULUS: f64 = 1e20;
+/// Largest G (Pa): higher than E, as a shear-rigid Timoshenko beam (the
+/// Rayleigh limit) is modelled with G = 1e22.
+const MAX_SHEAR_MODULUS: f64 = 1e30;
 /// Largest density (kg/m³): osmium is 2.26e4; lumped masses are given as `mass`.
 const MAX_DENSITY: f64 = 1e7;
 
@@ -424,7 +427,7 @@ fn check_magnitudes(deck: &Deck) -> Result<(), ModelError> {
     for m in &deck.materials {
         let checks = [
             ("E", Some(m.e), MAX_MODULUS, "Pa"),
-            ("G", m.g, MAX_MODULUS, "Pa"),
+            ("G", m.g, MAX_SHEAR_MODULUS, "Pa"),
             ("rho", Some(m.rho), MAX_DENSITY, "kg/m^3"),
         ];
         for (name, value, max, unit) in checks {
@@ -432,7 +435,7 @@ fn check_magnitudes(deck: &Deck) -> Result<(), ModelError> {
                 return Err(ModelError::Implausible {
                     pos: m.pos,
                     message: format!(
-                        "material {}: {name} = {v:e} {unit} is beyond {max:e} {unit}, more than any material: values are in SI units (a unit or typing error?)",
+                        "material {}: {name} = {v:e} {unit} is beyond {max:e} {unit}, far more than any material or rigid link needs: values are in SI units (a unit or typing error?)",
                         m.name
                     ),
                 });
