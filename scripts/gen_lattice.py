@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Write frame-lattice benchmark decks (deck format: /work/shared/spec/deck.md).
+"""Write frame-lattice benchmark decks (deck format: docs/spec/deck.md).
 
   plate N : N x N grid of 6-DOF nodes (spacing 0.1 m, z = 0) with beams along x
             and y, every node on a vertical column (0.1 m) to a fixed node of a

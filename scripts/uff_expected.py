@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Independent reference values for the UFF parser tests, computed with pyuff.
 
-Reads every file under ../shared/fixtures/uff-real/ (in place) and writes
+Reads every file under fixtures/uff-real/ and writes
 parsers/tests/expected/uff_real.json: per file the dataset types in order, and
 for dataset 58 the function/ordinate type, declared and read point counts,
 node/direction fields, first/last abscissa and first/middle/last ordinate.
@@ -22,7 +22,7 @@ import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
-FIXTURES = os.path.normpath(os.path.join(REPO, "..", "shared", "fixtures", "uff-real"))
+FIXTURES = os.path.join(REPO, "fixtures", "uff-real")
 EXPECTED = os.path.join(REPO, "parsers", "tests", "expected")
 
 try:

@@ -15,7 +15,7 @@
 set -euo pipefail
 secs=${1:-600}
 root=$(cd "$(dirname "$0")/.." && pwd)
-fixtures=$(cd "$root/../shared/fixtures/uff-real" && pwd)
+fixtures=$root/fixtures/uff-real
 fuzz=$root/parsers/fuzz
 
 have_nightly() {

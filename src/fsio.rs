@@ -24,6 +24,7 @@ where
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "out".to_string());
     let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let _guard = Temporary::register(&tmp);
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
         let mut buf = std::io::BufWriter::with_capacity(1 << 20, file);
@@ -37,4 +38,237 @@ where
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// The most bytes read from an input that is not a regular file (a pipe, a
+/// process substitution): enough for any deck or campaign, and a bound on the
+/// memory an endless stream can take.
+pub const NON_REGULAR_INPUT_LIMIT: u64 = 256 << 20;
+
+/// Open an input file for reading, refusing what cannot be a deck or a UFF
+/// file: a directory, a device (`/dev/zero`, a terminal), a socket. A pipe
+/// (FIFO) is read, but through [`Bounded`] at most
+/// [`NON_REGULAR_INPUT_LIMIT`] bytes. Returns the reader and the file's
+/// length (0 for a pipe). Errors are whole messages naming the file.
+pub fn open_input(path: &Path) -> Result<(Bounded<std::fs::File>, u64), String> {
+    use std::os::unix::fs::FileTypeExt;
+    let shown = path.display();
+    let meta = std::fs::metadata(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    let ft = meta.file_type();
+    let kind = if ft.is_dir() {
+        Some("a directory")
+    } else if ft.is_char_device() {
+        Some("a character device")
+    } else if ft.is_block_device() {
+        Some("a block device")
+    } else if ft.is_socket() {
+        Some("a socket")
+    } else {
+        None
+    };
+    if let Some(kind) = kind {
+        return Err(format!(
+            "{shown}: cannot read: {kind}, not a file (frfup reads decks, UFF files and campaigns from regular files or pipes)"
+        ));
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("{shown}: cannot read: {e}"))?;
+    let limit = if ft.is_file() {
+        u64::MAX
+    } else {
+        NON_REGULAR_INPUT_LIMIT
+    };
+    let len = if ft.is_file() { meta.len() } else { 0 };
+    Ok((Bounded::new(file, limit), len))
+}
+
+/// Read a whole input file (see [`open_input`]): a pipe that gives more than
+/// [`NON_REGULAR_INPUT_LIMIT`] bytes is refused with a message naming it.
+pub fn read_input(path: &Path) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let (mut reader, len) = open_input(path)?;
+    let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    reader
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    Ok(bytes)
+}
+
+/// A reader that fails, rather than reads on, past `limit` bytes.
+pub struct Bounded<R> {
+    inner: R,
+    left: u64,
+    limit: u64,
+}
+
+impl<R> Bounded<R> {
+    pub fn new(inner: R, limit: u64) -> Self {
+        Bounded {
+            inner,
+            left: limit,
+            limit,
+        }
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for Bounded<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        if self.left == 0 {
+            // One byte more tells an input of exactly `limit` bytes from an endless one.
+            let mut probe = [0u8; 1];
+            return match self.inner.read(&mut probe)? {
+                0 => Ok(0),
+                _ => Err(std::io::Error::other(format!(
+                    "more than {} MiB from a pipe or other non-regular file: refused (an endless input such as /dev/zero?); write it to a file first",
+                    self.limit >> 20
+                ))),
+            };
+        }
+        let n = buf
+            .len()
+            .min(usize::try_from(self.left).unwrap_or(usize::MAX));
+        let got = self.inner.read(&mut buf[..n])?;
+        self.left -= got as u64;
+        Ok(got)
+    }
+}
+
+/// The sibling temporary folder where [`write_folder`] builds `target`.
+fn sibling_tmp(target: &Path) -> std::path::PathBuf {
+    let parent = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "out".to_string());
+    parent.join(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+/// Check, before any computation, that `target` can become a result folder:
+/// not an existing file, and its parent folder exists (or can be made) and
+/// takes a new folder. The message names the path.
+pub fn check_out_folder(target: &Path) -> Result<(), String> {
+    let shown = target.display();
+    if target.exists() && !target.is_dir() {
+        return Err(format!("--out {shown}: exists and is not a folder"));
+    }
+    let probe = sibling_tmp(target);
+    if let Some(parent) = probe.parent() {
+        std::fs::create_dir_all(parent)
+            .map_err(|e| format!("--out {shown}: cannot create its parent folder: {e}"))?;
+    }
+    std::fs::create_dir(&probe)
+        .and_then(|()| std::fs::remove_dir(&probe))
+        .map_err(|e| format!("--out {shown}: cannot write beside it: {e}"))
+}
+
+/// Write a result folder as a whole: `fill` writes every file into a
+/// temporary folder beside `target`; only when it succeeds do the files
+/// land in `target` (one rename of the folder when `target` does not exist,
+/// else one rename per file, so files of `target` that the run does not write
+/// are kept). On any error the temporary folder is removed and `target` is
+/// left as it was.
+pub fn write_folder<T, E>(target: &Path, fill: impl FnOnce(&Path) -> Result<T, E>) -> Result<T, E>
+where
+    E: From<std::io::Error>,
+{
+    let tmp = sibling_tmp(target);
+    let _guard = Temporary::register(&tmp);
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp)?;
+    let result = fill(&tmp).and_then(|value| {
+        move_into(&tmp, target)?;
+        Ok(value)
+    });
+    let _ = std::fs::remove_dir_all(&tmp);
+    result
+}
+
+fn move_into(tmp: &Path, target: &Path) -> std::io::Result<()> {
+    if !target.exists() {
+        return std::fs::rename(tmp, target);
+    }
+    for entry in std::fs::read_dir(tmp)? {
+        let entry = entry?;
+        let to = target.join(entry.file_name());
+        if entry.file_type()?.is_dir() && to.is_dir() {
+            move_into(&entry.path(), &to)?;
+        } else {
+            std::fs::rename(entry.path(), &to)?;
+        }
+    }
+    Ok(())
+}
+
+/// Temporary files and folders being written, removed if SIGINT or SIGTERM
+/// ends the process (see [`remove_temporaries_on_signals`]).
+static TEMPORARIES: std::sync::Mutex<Vec<std::path::PathBuf>> = std::sync::Mutex::new(Vec::new());
+
+/// A registered temporary path; unregistered when dropped.
+struct Temporary(std::path::PathBuf);
+
+impl Temporary {
+    fn register(path: &Path) -> Temporary {
+        if let Ok(mut list) = TEMPORARIES.lock() {
+            list.push(path.to_path_buf());
+        }
+        Temporary(path.to_path_buf())
+    }
+}
+
+impl Drop for Temporary {
+    fn drop(&mut self) {
+        if let Ok(mut list) = TEMPORARIES.lock() {
+            if let Some(i) = list.iter().position(|p| *p == self.0) {
+                list.swap_remove(i);
+            }
+        }
+    }
+}
+
+/// Remove every temporary file or folder still being written.
+pub fn remove_temporaries() {
+    let list = match TEMPORARIES.lock() {
+        Ok(mut list) => std::mem::take(&mut *list),
+        Err(_) => return,
+    };
+    for p in list {
+        if p.is_dir() {
+            let _ = std::fs::remove_dir_all(&p);
+        } else {
+            let _ = std::fs::remove_file(&p);
+        }
+    }
+}
+
+/// On SIGINT or SIGTERM, remove the temporaries being written and exit with
+/// 128 + the signal's number, as the shell reports a killed process. Call it
+/// first in `main`, before any other thread starts: the two signals are
+/// blocked in every thread and taken by one thread with `sigwait` (no work
+/// in a signal handler; `libc` is already a dependency).
+pub fn remove_temporaries_on_signals() {
+    // SAFETY: sigset_t is plain data initialised by sigemptyset/sigaddset;
+    // pthread_sigmask and sigwait only read it.
+    unsafe {
+        let mut set: libc::sigset_t = std::mem::zeroed();
+        libc::sigemptyset(&mut set);
+        libc::sigaddset(&mut set, libc::SIGINT);
+        libc::sigaddset(&mut set, libc::SIGTERM);
+        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
+            return;
+        }
+        let spawned = std::thread::Builder::new()
+            .name("signals".into())
+            .spawn(move || {
+                let mut sig: libc::c_int = 0;
+                if libc::sigwait(&set, &mut sig) == 0 {
+                    remove_temporaries();
+                    std::process::exit(128 + sig);
+                }
+            });
+        if spawned.is_err() {
+            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
+        }
+    }
 }

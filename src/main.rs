@@ -29,6 +29,9 @@ struct Cli {
     /// Per-stage timings on stderr.
     #[arg(long, global = true)]
     verbose: bool,
+    /// Any warning (data skipped or doubtful in an input) is an error: exit 2.
+    #[arg(long, global = true)]
+    strict: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -67,7 +70,7 @@ enum Command {
     Modes {
         deck: PathBuf,
         /// How many of the lowest modes.
-        #[arg(long, default_value_t = 20)]
+        #[arg(long, default_value_t = 20, value_parser = at_least_one)]
         count: usize,
         /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
         #[arg(long)]
@@ -80,10 +83,10 @@ enum Command {
     Simulate {
         deck: PathBuf,
         /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         input: String,
         /// Frequency lines F0:F1:N (Hz).
-        #[arg(long)]
+        #[arg(long, allow_hyphen_values = true)]
         band: String,
         /// Output UFF file.
         #[arg(long)]
@@ -92,10 +95,10 @@ enum Command {
         #[arg(long, value_enum, default_value = "accelerance")]
         output: OutputKind,
         /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
-        #[arg(long, default_value = "all")]
+        #[arg(long, default_value = "all", allow_hyphen_values = true)]
         sensors: String,
         /// Complex Gaussian noise, as a fraction of each channel's RMS.
-        #[arg(long, default_value_t = 0.0)]
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
         noise: f64,
         /// Seed of the noise generator.
         #[arg(long, default_value_t = 1)]
@@ -120,10 +123,10 @@ enum Command {
         #[command(flatten)]
         args: UpdateArgs,
         /// Exit with code 1 if the updated mean SFDAC is below X.
-        #[arg(long, value_name = "X")]
+        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
         fail_below_sfdac: Option<f64>,
         /// Exit with code 1 if the updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT")]
+        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
         fail_above_freq_error: Option<f64>,
     },
     /// Which physics the model lacks: update, localise, test hypotheses (diagnosis.json, diagnosed.deck, report.md).
@@ -150,18 +153,36 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
         /// Cases run at once.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = at_least_one)]
         jobs: usize,
         /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
         /// A case fails if its updated mean SFDAC is below X.
-        #[arg(long, value_name = "X")]
+        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
         fail_below_sfdac: Option<f64>,
         /// A case fails if its updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT")]
+        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
         fail_above_freq_error: Option<f64>,
     },
+}
+
+/// A finite number (NaN or infinity as an option value is a typo, not a threshold).
+fn finite(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() => Ok(x),
+        Ok(_) => Err("expected a finite number".into()),
+        Err(e) => Err(e.to_string()),
+    }
+}
+
+/// A count of at least 1.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("expected at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(e) => Err(e.to_string()),
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -190,10 +211,10 @@ struct UpdateArgs {
     resonances: Option<usize>,
     /// Updating frequencies at (1 ± C)·f_r around each resonance [Eq. 42]
     /// (default: 0.05 robust, 0.08 paper).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     offset: Option<f64>,
     /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
-    #[arg(long, value_name = "F1,F2,...")]
+    #[arg(long, value_name = "F1,F2,...", allow_hyphen_values = true)]
     freqs: Option<String>,
     /// Add the natural-frequency equations [Eq. 16-22].
     #[arg(long)]
@@ -210,17 +231,17 @@ struct UpdateArgs {
     #[arg(long, value_enum, default_value = "svd")]
     inverse: Inverse,
     /// Relative diagonal perturbation for --inverse perturb.
-    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION, allow_negative_numbers = true, value_parser = finite)]
     perturbation: f64,
     /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E [Eq. 40].
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     svd_eps: Option<f64>,
     /// Tikhonov damping of each FRF step, relative to the largest singular
     /// value (default: 0.05 robust, 0 paper = the plain SVD solution).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     damping: Option<f64>,
     /// Stop the iteration when max |p_j| < T [Eq. 49] (default 0.01).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     tol: Option<f64>,
     /// Iteration limit of the paper's iteration (default 20).
     #[arg(long)]
@@ -305,8 +326,10 @@ enum ToKind {
 
 fn run(cli: Cli) -> Result<(), CommandError> {
     let progress = Progress::detect(cli.quiet);
+    commands::set_strict(cli.strict);
     match cli.command {
         Command::Demo { out } => {
+            frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
             let start = std::time::Instant::now();
             let reporter = StepReporter::new(cli.quiet, 21, "iteration");
             let result = commands::demo::run(&out, &mut |rec| {
@@ -487,6 +510,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             fail_below_sfdac,
             fail_above_freq_error,
         } => {
+            frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
             let shard = shard
                 .map(|s| frfup::batch::Shard::parse(&s))
                 .transpose()
@@ -638,6 +662,8 @@ fn check_thresholds(
 }
 
 fn main() -> ExitCode {
+    // Ctrl-C or a kill leaves no hidden temporary file or folder behind.
+    frfup::fsio::remove_temporaries_on_signals();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

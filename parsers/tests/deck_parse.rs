@@ -1,4 +1,4 @@
-//! The deck contract (/work/shared/spec/deck.md): every statement, the
+//! The deck contract (docs/spec/deck.md): every statement, the
 //! syntax details, every error class with its line:column, and the writer's
 //! round trip.
 

@@ -1,4 +1,4 @@
-//! Every real UFF file of `shared/fixtures/uff-real` against values read by
+//! Every real UFF file of `fixtures/uff-real` against values read by
 //! pyuff (`scripts/uff_expected.py` → `tests/expected/uff_real.json`).
 
 use std::path::PathBuf;
@@ -7,10 +7,7 @@ use frfup_parsers::uff::{self, Dataset, Function58, Ordinate, OtherKind};
 use serde_json::Value;
 
 fn fixtures() -> PathBuf {
-    PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/fixtures/uff-real"
-    ))
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/uff-real"))
 }
 
 fn expected() -> Value {

@@ -7,10 +7,7 @@ use std::path::PathBuf;
 use frfup_parsers::uff::{self, Abscissa, AxisCharacteristics, Function58, Ordinate};
 
 fn fixtures() -> Vec<PathBuf> {
-    let root = PathBuf::from(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/fixtures/uff-real"
-    ));
+    let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/uff-real"));
     let mut out = Vec::new();
     for dir in ["pyuff", "uffl-jl"] {
         for entry in std::fs::read_dir(root.join(dir)).expect("fixture directory") {

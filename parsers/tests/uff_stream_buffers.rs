@@ -44,7 +44,7 @@ static ALLOCATOR: CountingChunks = CountingChunks;
 fn one_thread_reader_recycles_its_buffer() {
     let path = PathBuf::from(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../shared/fixtures/uff-real/uffl-jl/dataset58_case7_ascii.unv"
+        "/../fixtures/uff-real/uffl-jl/dataset58_case7_ascii.unv"
     ));
     let one = std::fs::read(&path).expect("fixture");
     let bytes = one.repeat(200);

@@ -131,7 +131,7 @@ fn thresholds(t: &toml::Table, what: &str) -> Result<Thresholds, String> {
 fn opt_f64(t: &toml::Table, key: &str, what: &str) -> Result<Option<f64>, String> {
     match t.get(key) {
         None => Ok(None),
-        Some(toml::Value::Float(x)) => Ok(Some(*x)),
+        Some(toml::Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
         Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
         Some(v) => Err(format!("{what}: `{key}` must be a number, found {v}")),
     }
@@ -298,7 +298,8 @@ fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
 
 /// `F1,F2,...` in Hz.
 pub fn parse_freqs(s: &str) -> Result<Vec<f64>, String> {
-    s.split(',')
+    let freqs = s
+        .split(',')
         .map(str::trim)
         .filter(|t| !t.is_empty())
         .map(|t| {
@@ -307,7 +308,17 @@ pub fn parse_freqs(s: &str) -> Result<Vec<f64>, String> {
                 .filter(|f| f.is_finite() && *f > 0.0)
                 .ok_or_else(|| format!("freqs: {t:?} is not a positive frequency in Hz"))
         })
-        .collect()
+        .collect::<Result<Vec<f64>, String>>()?;
+    if freqs.is_empty() {
+        return Err(format!("freqs: {s:?} holds no frequency"));
+    }
+    // The same frequency twice adds the same equations twice: a typo, not a choice.
+    for (i, f) in freqs.iter().enumerate() {
+        if freqs[..i].contains(f) {
+            return Err(format!("freqs: {f} Hz is given more than once"));
+        }
+    }
+    Ok(freqs)
 }
 
 /// `I/N` (1-based I): this machine runs the cases whose 0-based index i has i mod N = I − 1.

@@ -174,8 +174,13 @@ pub fn run(
     opts: &BatchOptions,
     on_done: &(dyn Fn(&CaseSummary, usize, usize) + Sync),
 ) -> Result<BatchSummary, CommandError> {
-    let text = std::fs::read_to_string(&opts.campaign).map_err(|e| {
-        CommandError::input(format!("{}: cannot read: {e}", opts.campaign.display()))
+    let bytes = crate::fsio::read_input(&opts.campaign).map_err(CommandError::input)?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        CommandError::input(format!(
+            "{}: not UTF-8 text (invalid byte at offset {})",
+            opts.campaign.display(),
+            e.utf8_error().valid_up_to()
+        ))
     })?;
     let campaign =
         campaign::parse(&text, &opts.campaign).map_err(|e| CommandError::input(e.message))?;

@@ -142,6 +142,12 @@ pub fn parse_direction(s: &str) -> Option<i32> {
 pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let format = output_format(&opts.output)?;
     let file = read_uff(&opts.input, opts.progress)?;
+    // The loader's notes too (values no FRF has, channels measured twice ...)
+    // where the file holds FRFs; the parser's alone otherwise.
+    let notes = testdata::from_uff_with_notes(&file, &opts.input)
+        .map(|l| l.notes)
+        .unwrap_or_else(|_| file.notes.clone());
+    super::warn_notes(&opts.input, &notes)?;
     let selected = select(&file, opts.channels.as_deref())?;
     if selected.is_empty() {
         return Err(CommandError::input(format!(
@@ -152,18 +158,7 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let mut notes = Vec::new();
     let records: Vec<Function58> = match opts.to {
         None => selected.into_iter().cloned().collect(),
-        Some(target) => {
-            let subset = UffFile {
-                datasets: selected
-                    .iter()
-                    .map(|f| Dataset::Function(Box::new((*f).clone())))
-                    .collect(),
-                notes: Vec::new(),
-            };
-            let frfs = testdata::from_uff(&subset, &opts.input)
-                .map_err(|e| CommandError::input(e.to_string()))?;
-            converted_records(&selected, &frfs, target, &mut notes)
-        }
+        Some(target) => convert_selected(&selected, target, &opts.input, &mut notes)?,
     };
     let lines = records.first().map(|f| f.len()).unwrap_or(0);
     let count = records.len();
@@ -192,6 +187,55 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
         lines,
         notes,
     })
+}
+
+/// The selected records with their FRFs (function type 4) converted to
+/// `target`; any other dataset 58 (coherence, a time record ...) is carried
+/// unchanged, in its place, with a note naming it.
+fn convert_selected(
+    selected: &[&Function58],
+    target: Target,
+    input: &Path,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Function58>, CommandError> {
+    let is_frf = |f: &Function58| f.function_type == testdata::load::FUNCTION_TYPE_FRF;
+    let frf_records: Vec<&Function58> = selected.iter().copied().filter(|f| is_frf(f)).collect();
+    if frf_records.is_empty() {
+        return Err(CommandError::input(format!(
+            "{}: --to converts FRFs (dataset 58 with function type 4) and none of the {} selected record(s) is one",
+            input.display(),
+            selected.len()
+        )));
+    }
+    let subset = UffFile {
+        datasets: frf_records
+            .iter()
+            .map(|f| Dataset::Function(Box::new((*f).clone())))
+            .collect(),
+        notes: Vec::new(),
+    };
+    let frfs =
+        testdata::from_uff(&subset, input).map_err(|e| CommandError::input(e.to_string()))?;
+    let mut converted = converted_records(&frf_records, &frfs, target, notes).into_iter();
+    let mut out = Vec::with_capacity(selected.len());
+    for (i, f) in selected.iter().enumerate() {
+        if is_frf(f) {
+            out.extend(converted.next());
+        } else {
+            notes.push(format!(
+                "selected record {} ({} {}) is not an FRF: carried unconverted",
+                i + 1,
+                crate::testdata::entity_dof_label(
+                    &f.response_entity,
+                    f.response_node,
+                    f.response_direction
+                ),
+                super::info::function_type_name(f.function_type)
+            ));
+            out.push((*f).clone());
+        }
+    }
+    Ok(out)
 }
 
 /// Records carrying the converted values, headers taken from the originals.
@@ -294,8 +338,16 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
     for f in records {
         let label = format!(
             "{}/{}",
-            crate::testdata::dof_label(f.response_node, f.response_direction),
-            crate::testdata::dof_label(f.reference_node, f.reference_direction)
+            crate::testdata::entity_dof_label(
+                &f.response_entity,
+                f.response_node,
+                f.response_direction
+            ),
+            crate::testdata::entity_dof_label(
+                &f.reference_entity,
+                f.reference_node,
+                f.reference_direction
+            )
         );
         if f.ordinate.is_complex() {
             header.push(format!("{label} re"));

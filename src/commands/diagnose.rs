@@ -6,7 +6,6 @@ use std::path::PathBuf;
 
 use super::{read_deck, CommandError};
 use crate::diagnosis::{self, DiagnoseOptions, Diagnosis};
-use crate::testdata;
 
 /// Options of `frfup diagnose`.
 #[derive(Clone, Debug)]
@@ -19,8 +18,10 @@ pub struct DiagnoseCommand {
 
 /// Run a diagnosis and write its files into `out`.
 pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
+    crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
-    let test = testdata::load(&cmd.test).map_err(|e| CommandError::input(e.to_string()))?;
+    super::check_model_for_modes(&cmd.deck, &deck)?;
+    let test = super::load_test(&cmd.test)?;
     let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
         CommandError::input(format!(
             "{} with {}: {e}",
@@ -28,14 +29,16 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
             cmd.test.display()
         ))
     })?;
-    diagnosis::write_outputs(
-        &d,
-        &deck,
-        &test,
-        &cmd.out,
-        &cmd.deck.display().to_string(),
-        &cmd.test.display().to_string(),
-    )
+    crate::fsio::write_folder(&cmd.out, |dir| {
+        diagnosis::write_outputs(
+            &d,
+            &deck,
+            &test,
+            dir,
+            &cmd.deck.display().to_string(),
+            &cmd.test.display().to_string(),
+        )
+    })
     .map_err(|e| CommandError::output(&cmd.out, e))?;
     Ok(d)
 }

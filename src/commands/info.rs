@@ -7,7 +7,7 @@ use frfup_parsers::uff::{Abscissa, Dataset, Function58, UffFile};
 use serde_json::{json, Value};
 
 use super::{progress::Progress, read_uff, CommandError};
-use crate::testdata::dof_label;
+use crate::testdata::entity_dof_label;
 
 /// Name of a UFF function type (record 6, field 1).
 pub fn function_type_name(code: i32) -> &'static str {
@@ -113,8 +113,8 @@ pub fn table(file: &UffFile) -> String {
                     "{:>5}  {:<7} {:<11} {:<11} {:<20} {:<12} {:>8}  {:<24} {}",
                     i + 1,
                     if f.binary { "58b" } else { "58" },
-                    dof_label(f.response_node, f.response_direction),
-                    dof_label(f.reference_node, f.reference_direction),
+                    entity_dof_label(&f.response_entity, f.response_node, f.response_direction),
+                    entity_dof_label(&f.reference_entity, f.reference_node, f.reference_direction),
                     format!(
                         "{} {}",
                         f.function_type,
@@ -168,6 +168,10 @@ pub fn json(file: &UffFile) -> Value {
                     "response_dir": f.response_direction,
                     "reference_node": f.reference_node,
                     "reference_dir": f.reference_direction,
+                    "response_entity": f.response_entity.trim(),
+                    "reference_entity": f.reference_entity.trim(),
+                    "response": entity_dof_label(&f.response_entity, f.response_node, f.response_direction),
+                    "reference": entity_dof_label(&f.reference_entity, f.reference_node, f.reference_direction),
                     "function_type": f.function_type,
                     "function": function_type_name(f.function_type),
                     "ordinate_type": f.ordinate_type,

@@ -48,6 +48,57 @@ impl std::fmt::Display for CommandError {
 
 impl std::error::Error for CommandError {}
 
+/// A failure to write or move a result file (exit code 2).
+impl From<std::io::Error> for CommandError {
+    fn from(e: std::io::Error) -> Self {
+        CommandError::input(format!("cannot write the results: {e}"))
+    }
+}
+
+static STRICT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// `--strict`: from now on any warning about an input is an error (exit 2).
+pub fn set_strict(strict: bool) {
+    STRICT.store(strict, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether `--strict` is on.
+pub fn strict() -> bool {
+    STRICT.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Print what was noticed in the input `path` (data skipped or doubtful) on
+/// stderr as `warning: FILE: NOTE` lines, whatever `--quiet` says. Under
+/// `--strict` any such note is an error naming the file (exit 2).
+pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), CommandError> {
+    if notes.is_empty() {
+        return Ok(());
+    }
+    let mut err = std::io::stderr().lock();
+    for note in notes {
+        use std::io::Write;
+        let _ = writeln!(err, "warning: {}: {note}", path.display());
+    }
+    if strict() {
+        return Err(CommandError::input(format!(
+            "{}: {} warning(s) and --strict: refused (first: {})",
+            path.display(),
+            notes.len(),
+            notes[0]
+        )));
+    }
+    Ok(())
+}
+
+/// Load test data (FRF records of a UFF file) and report on stderr what was
+/// skipped or doubtful while reading them (see [`warn_notes`]).
+pub fn load_test(path: &std::path::Path) -> Result<crate::testdata::MeasuredFrfs, CommandError> {
+    let loaded =
+        crate::testdata::load_with_notes(path).map_err(|e| CommandError::input(e.to_string()))?;
+    warn_notes(path, &loaded.notes)?;
+    Ok(loaded.frfs)
+}
+
 /// Read and parse a UFF file, streaming (bounded memory, parsing on all
 /// cores while reading; a byte bar on a terminal for large files); errors
 /// name the file.
@@ -55,10 +106,8 @@ pub fn read_uff(
     path: &std::path::Path,
     progress: progress::Progress,
 ) -> Result<frfup_parsers::uff::UffFile, CommandError> {
-    let cannot_read =
-        |e: std::io::Error| CommandError::input(format!("{}: cannot read: {e}", path.display()));
-    let file = std::fs::File::open(path).map_err(cannot_read)?;
-    let len = file.metadata().map_or(0, |m| m.len());
+    // Directories and devices refused, a pipe read to a bound (`fsio::open_input`).
+    let (file, len) = crate::fsio::open_input(path).map_err(CommandError::input)?;
     let reader = progress::ProgressReader::new(file, len, &path.display().to_string(), progress);
     // The parser streams: the bar advances as bytes are parsed, not just read.
     let mut reader = reader;
@@ -75,8 +124,7 @@ pub fn read_uff(
 
 /// Read and parse a deck; errors read `FILE:LINE:COLUMN: what was expected`.
 pub fn read_deck(path: &std::path::Path) -> Result<frfup_parsers::deck::Deck, CommandError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| CommandError::input(format!("{}: cannot read: {e}", path.display())))?;
+    let bytes = crate::fsio::read_input(path).map_err(CommandError::input)?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let offset = e.utf8_error().valid_up_to();
         let line = e.as_bytes()[..offset]
@@ -89,8 +137,24 @@ pub fn read_deck(path: &std::path::Path) -> Result<frfup_parsers::deck::Deck, Co
             path.display()
         ))
     })?;
-    frfup_parsers::deck::parse(&text)
-        .map_err(|e| CommandError::input(format!("{}:{e}", path.display())))
+    let deck = frfup_parsers::deck::parse(&text)
+        .map_err(|e| CommandError::input(format!("{}:{e}", path.display())))?;
+    if deck.nodes.is_empty() {
+        // Said here rather than as "no free degree of freedom" by the model.
+        let lines = text.lines().count();
+        return Err(CommandError::input(if text.trim().is_empty() {
+            format!(
+                "{}:1:1: the deck is empty: expected `material`, `section`, `node` and `beam` statements (see docs/deck.md)",
+                path.display()
+            )
+        } else {
+            format!(
+                "{}:1:1: the deck's {lines} line(s) hold no `node` statement (only comments, titles or settings): expected a model (see docs/deck.md)",
+                path.display()
+            )
+        }));
+    }
+    Ok(deck)
 }
 
 /// A model-building error, prefixed with the deck's file name
@@ -99,5 +163,39 @@ pub fn model_error(path: &std::path::Path, e: crate::model::ModelError) -> Comma
     match e.pos() {
         Some(_) => CommandError::input(format!("{}:{e}", path.display())),
         None => CommandError::input(format!("{}: {e}", path.display())),
+    }
+}
+
+/// Check before a long computation that the deck's model (at the deck's own
+/// values) can have modes: every free DOF has mass. Errors name the node and DOF.
+pub fn check_model_for_modes(
+    path: &std::path::Path,
+    deck: &frfup_parsers::deck::Deck,
+) -> Result<(), CommandError> {
+    let fe = crate::model::build(deck, &Default::default()).map_err(|e| model_error(path, e))?;
+    crate::model::check_mass(&fe).map_err(|e| model_error(path, e))
+}
+
+/// An eigen-solver error in the words of the model: equations named as node and DOF.
+pub fn eigen_error(
+    path: &std::path::Path,
+    fe: &crate::model::FeModel,
+    e: crate::solvers::eigen::EigenError,
+) -> CommandError {
+    use crate::solvers::eigen::EigenError;
+    match e {
+        EigenError::Mechanisms { count, equations } => {
+            let names: Vec<String> = equations
+                .iter()
+                .filter_map(|&i| fe.dofs.equations.get(i))
+                .map(|(node, dof)| format!("node {node} {}", dof.name()))
+                .collect();
+            CommandError::input(format!(
+                "{}: the model has fixed DOFs but {count} mechanism(s) (zero-energy modes) moving {}: check fix, springs and element connectivity there",
+                path.display(),
+                names.join(", ")
+            ))
+        }
+        e => CommandError::input(format!("{}: {e}", path.display())),
     }
 }

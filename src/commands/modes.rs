@@ -31,6 +31,7 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
     let deck = read_deck(&opts.deck)?;
     check_settings(&opts.deck, &deck, &opts.values)?;
     let fe = model::build(&deck, &opts.values).map_err(|e| super::model_error(&opts.deck, e))?;
+    model::check_mass(&fe).map_err(|e| super::model_error(&opts.deck, e))?;
     let modes = lowest_modes(
         &fe.stiffness,
         &fe.mass,
@@ -40,7 +41,7 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
             ..EigenOptions::default()
         },
     )
-    .map_err(|e| CommandError::input(format!("{}: {e}", opts.deck.display())))?;
+    .map_err(|e| super::eigen_error(&opts.deck, &fe, e))?;
     let translational: Vec<bool> = fe
         .dofs
         .equations

@@ -36,26 +36,72 @@ pub fn parse_node_direction(s: &str, what: &str) -> Result<NodeDirection, Comman
 
 /// `F0:F1:N`.
 pub fn parse_band(s: &str) -> Result<Band, CommandError> {
-    let bad = || {
+    let bad = |why: &str| {
         CommandError::input(format!(
-            "--band {s:?}: expected F0:F1:N in Hz, e.g. 0:200:801"
+            "--band {s:?}: {why}; expected F0:F1:N in Hz, e.g. 0:200:801"
         ))
     };
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
-        return Err(bad());
+        return Err(bad("not three fields"));
     }
-    let start_hz: f64 = parts[0].trim().parse().map_err(|_| bad())?;
-    let end_hz: f64 = parts[1].trim().parse().map_err(|_| bad())?;
-    let count: usize = parts[2].trim().parse().map_err(|_| bad())?;
-    if !(start_hz >= 0.0 && end_hz >= start_hz && end_hz.is_finite() && count >= 1) {
-        return Err(bad());
+    let number = |t: &str, what: &str| {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| bad(&format!("{what} {t:?} is not a finite number")))
+    };
+    let start_hz = number(parts[0], "F0")?;
+    let end_hz = number(parts[1], "F1")?;
+    let count: usize = parts[2]
+        .trim()
+        .parse()
+        .map_err(|_| bad(&format!("N {:?} is not a whole number of lines", parts[2])))?;
+    if start_hz < 0.0 {
+        return Err(bad("F0 is negative"));
+    }
+    if end_hz < start_hz {
+        return Err(bad("F1 is below F0"));
+    }
+    if count == 0 {
+        return Err(bad("N is 0"));
+    }
+    if count > MAX_LINES {
+        return Err(bad(&format!(
+            "N = {count} lines is more than {MAX_LINES} (measured FRFs have at most a few 10^5)"
+        )));
     }
     Ok(Band {
         start_hz,
         end_hz,
         count,
     })
+}
+
+/// Most frequency lines `--band` accepts.
+pub const MAX_LINES: usize = 1_000_000;
+
+/// Most bytes of FRF values (lines × channels × 16) `simulate` will compute
+/// and hold: checked before anything is allocated.
+pub const MAX_VALUE_BYTES: u128 = 4 << 30;
+
+/// Refuse a campaign whose values (lines × channels) would not fit in memory.
+fn check_size(deck: &frfup_parsers::deck::Deck, campaign: &Campaign) -> Result<(), CommandError> {
+    let channels = match &campaign.sensors {
+        Sensors::All => deck.nodes.len() * 3,
+        Sensors::List(list) => list.len(),
+    } as u128;
+    let bytes = campaign.band.count as u128 * channels.max(1) * 16;
+    if bytes > MAX_VALUE_BYTES {
+        return Err(CommandError::input(format!(
+            "--band with {} lines × {channels} channel(s) is {:.1} GiB of FRF values, more than the {} GiB frfup simulate holds: use fewer lines or sensors",
+            campaign.band.count,
+            bytes as f64 / (1u64 << 30) as f64,
+            MAX_VALUE_BYTES >> 30
+        )));
+    }
+    Ok(())
 }
 
 /// `all` or a comma list of NODE:DIR.
@@ -75,6 +121,7 @@ pub fn parse_sensors(s: &str) -> Result<Sensors, CommandError> {
 pub fn run(opts: &SimulateOptions) -> Result<usize, CommandError> {
     let deck = read_deck(&opts.deck)?;
     check_settings(&opts.deck, &deck, &opts.values)?;
+    check_size(&deck, &opts.campaign)?;
     let frfs = simulate::simulate(&deck, &opts.values, &opts.campaign)
         .map_err(|e| CommandError::input(format!("{}: {e}", opts.deck.display())))?;
     let title = deck_title(&deck, &opts.deck);

@@ -4,7 +4,6 @@
 use std::path::{Path, PathBuf};
 
 use super::{read_deck, CommandError};
-use crate::testdata;
 use crate::updating::{self, UpdateOptions, UpdateResult};
 
 /// Options of `frfup update`.
@@ -54,9 +53,11 @@ pub fn run(
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = std::time::Instant::now();
     };
+    crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
+    super::check_model_for_modes(&cmd.deck, &deck)?;
     lap("read deck", &mut timings);
-    let test = testdata::load(&cmd.test).map_err(|e| CommandError::input(e.to_string()))?;
+    let test = super::load_test(&cmd.test)?;
     lap("read test data", &mut timings);
     let result =
         updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {
@@ -67,23 +68,26 @@ pub fn run(
             ))
         })?;
     lap("update", &mut timings);
-    std::fs::create_dir_all(&cmd.out).map_err(|e| CommandError::output(&cmd.out, e))?;
-    updating::write_outputs(&result, &deck, &cmd.out)
-        .map_err(|e| CommandError::output(&cmd.out, e))?;
-    lap("write tables and updated deck", &mut timings);
-    let inputs = crate::report::ReportInputs {
-        deck_path: cmd.deck.display().to_string(),
-        test_path: cmd.test.display().to_string(),
-        title: None,
-        command: None,
-    };
-    crate::report::write_report(&cmd.out, &result, &deck, &test, &inputs).map_err(|e| {
-        CommandError::input(format!(
-            "writing the report into {}: {e}",
-            cmd.out.display()
-        ))
+    // Tables, deck and report land together or not at all (`fsio::write_folder`).
+    crate::fsio::write_folder(&cmd.out, |dir| -> Result<(), CommandError> {
+        updating::write_outputs(&result, &deck, dir)
+            .map_err(|e| CommandError::output(&cmd.out, e))?;
+        lap("write tables and updated deck", &mut timings);
+        let inputs = crate::report::ReportInputs {
+            deck_path: cmd.deck.display().to_string(),
+            test_path: cmd.test.display().to_string(),
+            title: None,
+            command: None,
+        };
+        crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
+            CommandError::input(format!(
+                "writing the report into {}: {e}",
+                cmd.out.display()
+            ))
+        })?;
+        lap("write charts and report", &mut timings);
+        Ok(())
     })?;
-    lap("write charts and report", &mut timings);
     let files = list_files(&cmd.out);
     Ok(UpdateOutcome {
         freq_error_initial_pct: mean_frequency_error_pct(&result, 0),

@@ -255,6 +255,7 @@ pub(crate) fn layout(
 /// `orient` parallel to a beam, unknown/non-finite parameter values or values
 /// ≤ −1, and a model without free DOFs.
 pub fn build(deck: &Deck, values: &ParameterValues) -> Result<FeModel, ModelError> {
+    check_magnitudes(deck)?;
     let (layout, dofs, has_fixed_dofs) = layout(deck, values)?;
     let n = dofs.len();
 
@@ -389,4 +390,67 @@ pub(crate) fn from_triplets(
         .map_err(|e| ModelError::Sparse(format!("{e:?}")))?;
     mirror_upper(&mut a);
     Ok(a)
+}
+
+/// Largest coordinate (m) a deck may give: beyond it squares of lengths lose
+/// all precision (and overflow near 1e154), so it can only be a unit error.
+const MAX_COORDINATE: f64 = 1e9;
+/// Largest E (Pa): diamond is about 1.2e12 Pa, and a "rigid" link is stiff
+/// enough well below this; 1e308 gives frequencies of 1e148 Hz.
+const MAX_MODULUS: f64 = 1e20;
+/// Largest G (Pa): higher than E, as a shear-rigid Timoshenko beam (the
+/// Rayleigh limit) is modelled with G = 1e22.
+const MAX_SHEAR_MODULUS: f64 = 1e30;
+/// Largest density (kg/m³): osmium is 2.26e4; lumped masses are given as `mass`.
+const MAX_DENSITY: f64 = 1e7;
+
+/// Refuse coordinates and material values no structure has, naming the statement.
+fn check_magnitudes(deck: &Deck) -> Result<(), ModelError> {
+    for n in &deck.nodes {
+        if let Some(x) = n.xyz.iter().find(|x| x.abs() > MAX_COORDINATE) {
+            return Err(ModelError::Implausible {
+                pos: n.pos,
+                message: format!(
+                    "node {} has the coordinate {x:e} m, beyond {MAX_COORDINATE:e} m: coordinates are in metres (a unit or typing error?)",
+                    n.id
+                ),
+            });
+        }
+    }
+    for m in &deck.materials {
+        let checks = [
+            ("E", Some(m.e), MAX_MODULUS, "Pa"),
+            ("G", m.g, MAX_SHEAR_MODULUS, "Pa"),
+            ("rho", Some(m.rho), MAX_DENSITY, "kg/m^3"),
+        ];
+        for (name, value, max, unit) in checks {
+            if let Some(v) = value.filter(|v| v.abs() > max) {
+                return Err(ModelError::Implausible {
+                    pos: m.pos,
+                    message: format!(
+                        "material {}: {name} = {v:e} {unit} is beyond {max:e} {unit}, far more than any material or rigid link needs: values are in SI units (a unit or typing error?)",
+                        m.name
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// For an eigen solve every free DOF needs mass: name the first that has none
+/// (a direct FRF solve does not need it, so `build` does not ask).
+pub fn check_mass(fe: &FeModel) -> Result<(), ModelError> {
+    let (mass, dofs) = (&fe.mass, &fe.dofs);
+    let diag = crate::solvers::sparse_ops::diagonal(mass);
+    match diag.iter().position(|m| !(*m > 0.0)) {
+        Some(i) => {
+            let (node, dof) = dofs.equations[i];
+            Err(ModelError::NoMass {
+                node,
+                dof: dof.name(),
+            })
+        }
+        None => Ok(()),
+    }
 }

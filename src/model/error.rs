@@ -25,6 +25,11 @@ pub enum ModelError {
     NoDofs,
     /// The sparse matrix could not be created (out of memory).
     Sparse(String),
+    /// A value no structure has (a coordinate beyond 1e9 m, E beyond 1e15 Pa
+    /// ...): a unit or typing error that would otherwise overflow.
+    Implausible { pos: Pos, message: String },
+    /// A free DOF without mass (M_ii ≤ 0): the eigenproblem is singular.
+    NoMass { node: u32, dof: &'static str },
 }
 
 impl ModelError {
@@ -34,7 +39,8 @@ impl ModelError {
             ModelError::Deck(e) => Some(e.pos()),
             ModelError::ZeroLength { pos, .. }
             | ModelError::OrientParallel { pos, .. }
-            | ModelError::NonPositiveProperty { pos, .. } => Some(*pos),
+            | ModelError::NonPositiveProperty { pos, .. }
+            | ModelError::Implausible { pos, .. } => Some(*pos),
             _ => None,
         }
     }
@@ -64,6 +70,11 @@ impl fmt::Display for ModelError {
             ),
             ModelError::NoDofs => write!(f, "the model has no free degree of freedom"),
             ModelError::Sparse(s) => write!(f, "sparse assembly failed: {s}"),
+            ModelError::Implausible { pos, message } => write!(f, "{pos}: {message}"),
+            ModelError::NoMass { node, dof } => write!(
+                f,
+                "node {node} DOF {dof} is free but has no mass (M = 0): connect it to a beam, give it a `mass` (with rotary inertia for a rotation) or `fix` it"
+            ),
         }
     }
 }

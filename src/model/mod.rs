@@ -28,7 +28,7 @@ mod properties;
 pub mod sensitivity;
 mod update;
 
-pub use assembly::{build, dof_of};
+pub use assembly::{build, check_mass, dof_of};
 pub use error::ModelError;
 pub use update::{parameter_names, updated_deck};
 

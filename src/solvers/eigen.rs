@@ -90,8 +90,9 @@ impl Default for EigenOptions {
 /// CONTRACT. Why an eigen solve failed.
 #[derive(Debug)]
 pub enum EigenError {
-    /// A fixed model has this many zero-energy modes (mechanisms).
-    Mechanisms { count: usize },
+    /// A fixed model has this many zero-energy modes (mechanisms); the
+    /// equations (0-based) that move most in them.
+    Mechanisms { count: usize, equations: Vec<usize> },
     /// M is not positive definite on the free DOFs (e.g. a DOF with no mass).
     MassNotPositive { detail: String },
     /// The iteration did not converge.
@@ -103,9 +104,10 @@ pub enum EigenError {
 impl std::fmt::Display for EigenError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            EigenError::Mechanisms { count } => write!(
+            EigenError::Mechanisms { count, equations } => write!(
                 f,
-                "the model has fixed DOFs but {count} zero-energy mode(s) (mechanisms): check fix, springs and element connectivity"
+                "the model has fixed DOFs but {count} zero-energy mode(s) (mechanisms) moving equation(s) {}: check fix, springs and element connectivity",
+                equations.iter().map(|e| e.to_string()).collect::<Vec<_>>().join(", ")
             ),
             EigenError::MassNotPositive { detail } => {
                 write!(f, "mass matrix is not positive definite: {detail}")
@@ -351,13 +353,60 @@ pub fn lowest_modes_with(
     };
     let modes = finish(k, m, shapes, &scale, &mut report);
     let zero = tuning.zero_energy_tolerance * scale.max_ratio;
-    report.zero_energy_modes = modes.omega2.iter().filter(|w2| **w2 < zero).count();
-    if opts.expect_no_rigid_body_modes && report.zero_energy_modes > 0 {
+    let zero_energy = zero_energy_modes(k, m, &modes, zero);
+    report.zero_energy_modes = zero_energy.len();
+    if opts.expect_no_rigid_body_modes && !zero_energy.is_empty() {
         return Err(EigenError::Mechanisms {
-            count: report.zero_energy_modes,
+            count: zero_energy.len(),
+            equations: moving_equations(m, &modes, &zero_energy),
         });
     }
     Ok((modes, report))
+}
+
+/// Below this ratio of ω² to the stiffness of the DOFs a mode moves
+/// (Σ K_ii φ_i², φ mass-normalised), a mode stores no strain energy.
+const LOCAL_ZERO_ENERGY: f64 = 1e-6;
+
+/// The modes that store no strain energy: ω² below `zero` (relative to the
+/// stiffest DOF of the model) and also negligible against the stiffness of
+/// the DOFs the mode moves. The second test keeps a stiff joint (1e10 N/m
+/// springs on light nodes: a huge largest K_ii/M_ii) from turning a soft but
+/// elastic mode elsewhere into a "mechanism".
+fn zero_energy_modes(k: &SparseMatrix, m: &SparseMatrix, modes: &Modes, zero: f64) -> Vec<usize> {
+    let dk = sparse_ops::diagonal(k);
+    let _ = m;
+    (0..modes.omega2.len())
+        .filter(|&r| {
+            let w2 = modes.omega2[r];
+            if w2 >= zero {
+                return false;
+            }
+            let col = modes.shapes.col(r);
+            let local: f64 = (0..dk.len()).map(|i| dk[i] * col[i] * col[i]).sum();
+            w2 < LOCAL_ZERO_ENERGY * local || local <= 0.0
+        })
+        .collect()
+}
+
+/// The equations (0-based) that carry most of the kinetic energy of the
+/// zero-energy `modes` (φ_i² M_ii at least a quarter of the largest), at most 12.
+fn moving_equations(m: &SparseMatrix, modes: &Modes, zero_energy: &[usize]) -> Vec<usize> {
+    let dm = sparse_ops::diagonal(m);
+    let mut out = Vec::new();
+    for &r in zero_energy {
+        let col = modes.shapes.col(r);
+        let energy: Vec<f64> = (0..dm.len()).map(|i| dm[i] * col[i] * col[i]).collect();
+        let top = energy.iter().fold(0.0f64, |a, &b| a.max(b));
+        for (i, e) in energy.iter().enumerate() {
+            if *e >= 0.25 * top && !out.contains(&i) {
+                out.push(i);
+            }
+        }
+    }
+    out.sort_unstable();
+    out.truncate(12);
+    out
 }
 
 /// Below this many stored entries of K and M times modes, [`finish`] stays on

@@ -30,7 +30,8 @@ pub enum TestDataError {
 impl std::fmt::Display for TestDataError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            TestDataError::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            // `load` reads through `fsio::read_input`, whose messages name the file.
+            TestDataError::Io { source, .. } => write!(f, "{source}"),
             TestDataError::Uff { path, source } => write!(f, "{}: {source}", path.display()),
             TestDataError::NoFrfs { path, detail }
             | TestDataError::Inconsistent { path, detail } => {
@@ -42,17 +43,33 @@ impl std::fmt::Display for TestDataError {
 
 impl std::error::Error for TestDataError {}
 
-/// Read a UFF file and gather its FRF records.
+/// Test data and what was noticed while reading them: the parser's notes
+/// (lines outside datasets, 58b byte counts ...) and the loader's (records
+/// that are not FRFs, channels measured twice, several references, values no
+/// FRF has). Nothing that was skipped or doubtful goes unsaid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadedTest {
+    pub frfs: MeasuredFrfs,
+    pub notes: Vec<String>,
+}
+
+/// Read a UFF file and gather its FRF records (the notes are dropped: see
+/// [`load_with_notes`]).
 pub fn load(path: &Path) -> Result<MeasuredFrfs, TestDataError> {
-    let bytes = std::fs::read(path).map_err(|source| TestDataError::Io {
+    load_with_notes(path).map(|l| l.frfs)
+}
+
+/// Read a UFF file and gather its FRF records, with what was noticed.
+pub fn load_with_notes(path: &Path) -> Result<LoadedTest, TestDataError> {
+    let bytes = crate::fsio::read_input(path).map_err(|message| TestDataError::Io {
         path: path.to_path_buf(),
-        source,
+        source: std::io::Error::other(message),
     })?;
     let file = frfup_parsers::uff::parse(&bytes).map_err(|source| TestDataError::Uff {
         path: path.to_path_buf(),
         source,
     })?;
-    from_uff(&file, path)
+    from_uff_with_notes(&file, path)
 }
 
 /// The FRF kind of a record, from the response's specific data type (record 9),
@@ -92,6 +109,18 @@ pub fn si_factor(f: &Function58, units: &Units164) -> f64 {
 /// Gather the FRF records (function type 4) of `file` into channels on a
 /// common frequency axis. `path` only names the file in errors.
 pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataError> {
+    from_uff_with_notes(file, path).map(|l| l.frfs)
+}
+
+/// [`from_uff`], with the parser's notes and the loader's own.
+pub fn from_uff_with_notes(file: &UffFile, path: &Path) -> Result<LoadedTest, TestDataError> {
+    let frfs = gather(file, path)?;
+    let mut notes = file.notes.clone();
+    notes.extend(super::checks::notes(file, &frfs));
+    Ok(LoadedTest { frfs, notes })
+}
+
+fn gather(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataError> {
     // Dataset 164 sets the units of the datasets that follow it.
     let mut units = Units164::si();
     let mut records: Vec<(usize, &Function58, f64)> = Vec::new();
@@ -178,11 +207,15 @@ pub fn from_uff(file: &UffFile, path: &Path) -> Result<MeasuredFrfs, TestDataErr
                 c64::new(re * factor, im * factor)
             })
             .collect();
+        let (response_node, response_direction) =
+            super::checks::record_dof(&f.response_entity, f.response_node, f.response_direction);
+        let (reference_node, reference_direction) =
+            super::checks::record_dof(&f.reference_entity, f.reference_node, f.reference_direction);
         channels.push(Channel {
-            response_node: f.response_node,
-            response_direction: f.response_direction,
-            reference_node: f.reference_node,
-            reference_direction: f.reference_direction,
+            response_node,
+            response_direction,
+            reference_node,
+            reference_direction,
             values,
         });
     }

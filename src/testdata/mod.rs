@@ -38,12 +38,13 @@ pub struct MeasuredFrfs {
     pub channels: Vec<Channel>,
 }
 
+pub mod checks;
 pub mod convert;
 pub mod layout;
 pub mod load;
 
 pub use convert::{signed_real, signed_real_displacement};
-pub use load::{from_uff, load, TestDataError};
+pub use load::{from_uff, from_uff_with_notes, load, load_with_notes, LoadedTest, TestDataError};
 
 impl FrfKind {
     /// Power of iω that turns receptance into this kind: 0, 1 or 2.
@@ -115,4 +116,46 @@ pub fn dof_label(node: i64, direction: i32) -> String {
         _ => return format!("{node}:{direction}"),
     };
     format!("{node}{}{name}", if direction < 0 { '-' } else { '+' })
+}
+
+/// The label of a record-6 DOF: `dof_label` of its node and direction, or,
+/// for a channel identified only by an entity name (node 0, as some
+/// acquisition software writes, e.g. `.1.Z-`), that name.
+pub fn entity_dof_label(entity: &str, node: i64, direction: i32) -> String {
+    let name = entity.trim();
+    if node == 0 && !name.is_empty() && !name.eq_ignore_ascii_case("none") {
+        name.to_string()
+    } else {
+        dof_label(node, direction)
+    }
+}
+
+/// Node and UFF direction code from an entity name of the form
+/// `[.]NODE.DIR` with DIR one of x, y, z, rx, ry, rz and a sign before or after
+/// (`.1.Z-`, `.56.Z`, `12.+y`, `3:RX`); `None` for any other name.
+pub fn node_direction_from_entity(entity: &str) -> Option<(i64, i32)> {
+    let parts: Vec<&str> = entity
+        .trim()
+        .split(['.', ':'])
+        .filter(|p| !p.is_empty())
+        .collect();
+    let [node, dir] = parts.as_slice() else {
+        return None;
+    };
+    let node: i64 = node.parse().ok().filter(|n| *n > 0)?;
+    let (sign, name) = if let Some(rest) = dir.strip_prefix('-').or_else(|| dir.strip_suffix('-')) {
+        (-1, rest)
+    } else {
+        (1, dir.trim_start_matches('+').trim_end_matches('+'))
+    };
+    let code = match name.to_ascii_lowercase().as_str() {
+        "x" => 1,
+        "y" => 2,
+        "z" => 3,
+        "rx" => 4,
+        "ry" => 5,
+        "rz" => 6,
+        _ => return None,
+    };
+    Some((node, sign * code))
 }

@@ -1,5 +1,5 @@
 //! The model deck (`.deck`, version 1): see `docs/deck.md` and
-//! `/work/shared/spec/deck.md` (the contract).
+//! `docs/spec/deck.md` (the contract).
 //!
 //! [`parse`] reads a deck into a typed [`Deck`] in two passes: a nom-based
 //! syntax pass (one statement per line) and a semantic pass ([`Deck::validate`])
@@ -448,14 +448,27 @@ pub struct Deck {
     pub sensors: Vec<Sensor>,
 }
 
+/// Most characters of the title that [`Deck::title`] gives.
+pub const TITLE_ECHO_CHARS: usize = 1000;
+
 impl Deck {
-    /// The title lines joined with newlines (empty if none).
+    /// The title lines joined with newlines (empty if none), as reports echo
+    /// it: at most [`TITLE_ECHO_CHARS`] characters (a 200 MB title line must not
+    /// become a gigabyte of reports); the rest is said, not copied.
     pub fn title(&self) -> String {
-        self.titles
+        let full = self
+            .titles
             .iter()
             .map(|t| t.text.as_str())
             .collect::<Vec<_>>()
-            .join("\n")
+            .join("\n");
+        match full.char_indices().nth(TITLE_ECHO_CHARS) {
+            None => full,
+            Some((cut, _)) => {
+                let rest = full[cut..].chars().count();
+                format!("{} … ({rest} more characters)", &full[..cut])
+            }
+        }
     }
     pub fn material(&self, name: &str) -> Option<&Material> {
         self.materials.iter().find(|m| m.name == name)
@@ -486,7 +499,47 @@ impl Deck {
 pub fn parse(text: &str) -> Result<Deck, DeckError> {
     // A UTF-8 byte-order mark is not part of the first line's text.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Line ends of CR alone (classic Mac OS) are line ends too.
+    let normalised;
+    let text = if !text.contains('\n') && text.contains('\r') {
+        normalised = text.replace('\r', "\n");
+        normalised.as_str()
+    } else {
+        text
+    };
+    check_characters(text)?;
     let deck = statements::parse_statements(text)?;
     validate::first_error(&deck, Some(text))?;
     Ok(deck)
+}
+
+/// Characters that look like spaces or are invisible, outside comments and
+/// titles, named where they are (a NUL byte, a non-breaking space pasted from a
+/// document, a stray control character), rather than reported as a missing field.
+fn check_characters(text: &str) -> Result<(), DeckError> {
+    for (i, line) in text.split('\n').enumerate() {
+        let code = lexer::strip_comment(line);
+        if code.trim_start().starts_with("title") {
+            continue;
+        }
+        for (col, c) in code.chars().enumerate() {
+            let what = match c {
+                '\t' | '\r' | ' ' => continue,
+                '\0' => "a NUL byte (is this a binary file?)".to_string(),
+                '\u{a0}' => "a non-breaking space (U+00A0): use a plain space".to_string(),
+                c if c.is_whitespace() => {
+                    format!("the space character U+{:04X}: use a plain space", c as u32)
+                }
+                c if c.is_control() => format!("the control character U+{:04X}", c as u32),
+                _ => continue,
+            };
+            let line_no = u32::try_from(i + 1).unwrap_or(u32::MAX);
+            let col = u32::try_from(col + 1).unwrap_or(u32::MAX);
+            return Err(DeckError::new(
+                Pos::new(line_no, col),
+                format!("{what} where tokens are separated by spaces or tabs"),
+            ));
+        }
+    }
+    Ok(())
 }

@@ -118,6 +118,12 @@ pub(crate) fn record7(line: &[u8]) -> Result<Record7, String> {
             "abscissa minimum, increment and z value must be finite, found {v}"
         ));
     }
+    if even && points > 1 && !(reals[1] > 0.0) {
+        return Err(format!(
+            "even abscissa with increment {}: it must be > 0 (the {points} abscissae would not increase)",
+            reals[1]
+        ));
+    }
     Ok(Record7 {
         ordinate_type: ordinate_type as i32,
         points,
