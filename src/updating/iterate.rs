@@ -529,16 +529,10 @@ pub fn update_model(
         }
     }
 
-    // The best iteration is returned; a converged last step counts as the
-    // best unless it fits clearly worse (SFDAC mean lower by > 1e-6).
-    let best = best_index(&records);
-    let last = records.len() - 1;
-    let final_iteration = if stop == StopReason::Converged
-        && records[last].sfdac.mean >= records[best].sfdac.mean - 1e-6
-    {
-        last
-    } else {
-        best
+    // The converged iterate (Eq. 49), else the best one (highest SFDAC mean).
+    let final_iteration = match stop {
+        StopReason::Converged => records.len() - 1,
+        _ => best_index(&records),
     };
     let fdac_initial = fdac_matrix(&fe_frfs_initial, &h_test);
     let fdac_final = if final_iteration == records.len() - 1 {
