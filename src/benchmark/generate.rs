@@ -394,7 +394,9 @@ fn draw_axis(
     let axis = *rng
         .pick(&[AxisKind::Even, AxisKind::Even, AxisKind::Log, AxisKind::Jittered])
         .unwrap_or(&AxisKind::Even);
-    let step = f_end / count as f64;
+    // Lines are rounded to what an ASCII 58 record holds (6 digits), so the
+    // file's axis is the simulated one.
+    let step = round_sig(f_end / count as f64, 5);
     let lines: Vec<f64> = match axis {
         AxisKind::Even => (1..=count).map(|i| step * i as f64).collect(),
         AxisKind::Jittered => (1..=count)
@@ -404,7 +406,7 @@ fn draw_axis(
                 } else {
                     rng.range(-0.3, 0.3)
                 };
-                round_sig(step * (i as f64 + j), 9)
+                round_sig(step * (i as f64 + j), 6)
             })
             .collect(),
         AxisKind::Log => {
@@ -412,7 +414,7 @@ fn draw_axis(
             let lo = round_sig(0.4 * lowest, 4);
             let r = (f_end / lo).ln() / (count - 1) as f64;
             (0..count)
-                .map(|i| round_sig(lo * (r * i as f64).exp(), 9))
+                .map(|i| round_sig(lo * (r * i as f64).exp(), 6))
                 .collect()
         }
     };

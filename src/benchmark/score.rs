@@ -183,6 +183,26 @@ impl RunRecord {
     }
 }
 
+/// A failure message without its file names and with every number written
+/// `#`, so that the same failure on different cases groups together.
+pub fn message_class(message: &str) -> String {
+    let tail = message.rsplit_once(".uff: ").map_or(message, |(_, t)| t);
+    let mut out = String::new();
+    let mut in_number = false;
+    for ch in tail.chars() {
+        if ch.is_ascii_digit() {
+            if !in_number {
+                out.push('#');
+            }
+            in_number = true;
+        } else {
+            in_number = false;
+            out.push(ch);
+        }
+    }
+    out.chars().take(160).collect()
+}
+
 /// The row of a group in the summary table.
 fn group_row(name: &str, rows: &[&RunRecord]) -> String {
     let n = rows.len();
@@ -237,8 +257,10 @@ pub fn summary_markdown(rows: &[RunRecord]) -> String {
     }
     let mut messages: BTreeMap<String, usize> = BTreeMap::new();
     for r in rows.iter().filter(|r| r.exit_code != Some(0)) {
-        let m: String = r.message.chars().take(140).collect();
-        *messages.entry(format!("exit {:?}: {m}", r.exit_code)).or_default() += 1;
+        let code = r.exit_code.map_or("none".to_string(), |c| c.to_string());
+        *messages
+            .entry(format!("exit {code}: {}", message_class(&r.message)))
+            .or_default() += 1;
     }
     if !messages.is_empty() {
         let mut list: Vec<(String, usize)> = messages.into_iter().collect();
