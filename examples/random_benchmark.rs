@@ -2,11 +2,12 @@
 //!
 //!   cargo run --release --example random_benchmark -- --cases 200 --seed 1 \
 //!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
+//!       [--update-arg ARG]...
 //!
 //! Generates the cases (frfup::benchmark) into DIR/case-NNN/ (model.deck,
 //! truth.deck, test.uff, truth.json), runs the release `frfup` binary as a
 //! user would — `frfup update model.deck test.uff --out CASE/out`, no other
-//! flag — `--jobs` at a time, scores each CASE/out/report.json against
+//! flag (unless `--update-arg` adds some, for comparisons) — `--jobs` at a time, scores each CASE/out/report.json against
 //! truth.json, writes DIR/cases.csv and DIR/summary.md and prints the summary.
 
 use std::path::{Path, PathBuf};
@@ -15,7 +16,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use frfup::benchmark::{case_seed, generate, score_report, summary_markdown, GenOptions, RunRecord};
+use frfup::benchmark::{
+    case_seed, generate, score_report, summary_markdown, GenOptions, RunRecord,
+};
 
 struct Args {
     cases: usize,
@@ -26,6 +29,8 @@ struct Args {
     timeout: f64,
     bounds: bool,
     generate_only: bool,
+    /// Extra arguments of `frfup update` (none for the benchmark proper).
+    update_args: Vec<String>,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -38,6 +43,7 @@ fn parse_args() -> Result<Args, String> {
         timeout: 600.0,
         bounds: false,
         generate_only: false,
+        update_args: Vec::new(),
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -51,6 +57,7 @@ fn parse_args() -> Result<Args, String> {
             "--timeout" => a.timeout = value()?.parse().map_err(|_| "--timeout: seconds")?,
             "--bounds" => a.bounds = true,
             "--generate-only" => a.generate_only = true,
+            "--update-arg" => a.update_args.push(value()?),
             other => return Err(format!("unknown argument {other:?}")),
         }
     }
@@ -62,7 +69,7 @@ fn main() {
     let args = match parse_args() {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only]");
+            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--update-arg ARG]...");
             std::process::exit(2);
         }
     };
@@ -150,12 +157,16 @@ fn generate_case(args: &Args, i: usize) -> Result<Generated, String> {
         noise: case.noise,
         ..RunRecord::default()
     };
-    let truth = case.params.iter().map(|p| (p.name.clone(), p.value)).collect();
+    let truth = case
+        .params
+        .iter()
+        .map(|p| (p.name.clone(), p.value))
+        .collect();
     Ok(Generated { record, truth, dir })
 }
 
 /// `frfup update model.deck test.uff --out DIR/out`, killed after `timeout` s.
-fn run_case(bin: &Path, g: &Generated, timeout: f64) -> RunRecord {
+fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRecord {
     let mut r = g.record.clone();
     let out = g.dir.join("out");
     let files = (
@@ -173,6 +184,7 @@ fn run_case(bin: &Path, g: &Generated, timeout: f64) -> RunRecord {
         .arg(g.dir.join("test.uff"))
         .arg("--out")
         .arg(&out)
+        .args(extra)
         .stdin(Stdio::null())
         .stdout(so)
         .stderr(se)
@@ -250,7 +262,7 @@ fn run(args: &Args) -> Result<(), String> {
     }
     let done = AtomicUsize::new(0);
     let rows = parallel(cases.len(), args.jobs, |i| {
-        let r = run_case(&bin, &cases[i], args.timeout);
+        let r = run_case(&bin, &cases[i], args.timeout, &args.update_args);
         let k = done.fetch_add(1, Ordering::SeqCst) + 1;
         eprintln!(
             "[{k}/{}] {} {} {} exit {:?} {:.2} s max error {}",

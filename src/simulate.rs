@@ -216,11 +216,13 @@ fn campaign_lines(campaign: &Campaign) -> Result<Vec<f64>, SimulateError> {
         return Ok(campaign.band.lines_hz());
     };
     if lines.is_empty() {
-        return Err(SimulateError::Invalid("the list of frequency lines is empty".into()));
+        return Err(SimulateError::Invalid(
+            "the list of frequency lines is empty".into(),
+        ));
     }
-    if let Some(i) = (0..lines.len())
-        .find(|&i| !(lines[i].is_finite() && lines[i] >= 0.0) || (i > 0 && !(lines[i] > lines[i - 1])))
-    {
+    if let Some(i) = (0..lines.len()).find(|&i| {
+        !(lines[i].is_finite() && lines[i] >= 0.0) || (i > 0 && !(lines[i] > lines[i - 1]))
+    }) {
         return Err(SimulateError::Invalid(format!(
             "frequency line {} ({} Hz) must be finite, >= 0 and above the previous one",
             i + 1,
@@ -234,7 +236,11 @@ fn campaign_lines(campaign: &Campaign) -> Result<Vec<f64>, SimulateError> {
 /// to 1e-9 of the span, else the explicit `Uneven` list.
 fn abscissa_of(lines: &[f64]) -> Abscissa {
     let start = lines.first().copied().unwrap_or(0.0);
-    let step = if lines.len() > 1 { lines[1] - lines[0] } else { 0.0 };
+    let step = if lines.len() > 1 {
+        lines[1] - lines[0]
+    } else {
+        0.0
+    };
     let span = lines.last().copied().unwrap_or(0.0).abs().max(1e-300);
     let even = lines
         .iter()

@@ -6,7 +6,9 @@
 use std::path::Path;
 use std::time::Instant;
 
-use frfup::benchmark::{case_seed, generate, score_estimates, Case, GenOptions, LayoutKind, ReportEstimate};
+use frfup::benchmark::{
+    case_seed, generate, score_estimates, Case, GenOptions, LayoutKind, ReportEstimate,
+};
 use frfup::model::{self, ParameterValues};
 use frfup::parsers::deck;
 use frfup::simulate::{self, Sensors};
@@ -71,13 +73,25 @@ fn check_valid(case: &Case) {
             LayoutKind::FixedExciter => (p, &case.fixed),
             LayoutKind::RovingHammer => (&case.fixed, p),
         };
-        assert_eq!((ch.response_node, ch.response_direction), (resp.node as i64, resp.direction));
-        assert_eq!((ch.reference_node, ch.reference_direction), (refr.node as i64, refr.direction));
-        assert!(ch.values.iter().all(|v| v.re.is_finite() && v.im.is_finite()));
+        assert_eq!(
+            (ch.response_node, ch.response_direction),
+            (resp.node as i64, resp.direction)
+        );
+        assert_eq!(
+            (ch.reference_node, ch.reference_direction),
+            (refr.node as i64, refr.direction)
+        );
+        assert!(ch
+            .values
+            .iter()
+            .all(|v| v.re.is_finite() && v.im.is_finite()));
     }
     if case.layout == LayoutKind::RovingHammer {
-        let refs: std::collections::BTreeSet<_> =
-            frfs.channels.iter().map(|c| (c.reference_node, c.reference_direction)).collect();
+        let refs: std::collections::BTreeSet<_> = frfs
+            .channels
+            .iter()
+            .map(|c| (c.reference_node, c.reference_direction))
+            .collect();
         assert_eq!(refs.len(), frfs.channels.len(), "every hit point differs");
     }
 }
@@ -86,7 +100,11 @@ fn check_valid(case: &Case) {
 /// reference swapped (reciprocity), noise-free.
 fn check_reciprocity(case: &Case) {
     let truth = deck::parse(&case.truth_deck).unwrap();
-    let values: ParameterValues = case.params.iter().map(|p| (p.name.clone(), p.value)).collect();
+    let values: ParameterValues = case
+        .params
+        .iter()
+        .map(|p| (p.name.clone(), p.value))
+        .collect();
     let mut row = case.campaign();
     row.noise = 0.0;
     row.response = Some(case.fixed);
@@ -114,21 +132,32 @@ fn fixed_seed_subset() {
         kinds.insert((case.structure, case.layout));
     }
     check_reciprocity(&cases[0]);
-    assert!(kinds.len() >= 4, "the subset covers several kinds: {kinds:?}");
+    assert!(
+        kinds.len() >= 4,
+        "the subset covers several kinds: {kinds:?}"
+    );
     let (mut within, mut ran, mut errors) = (0, 0, 0);
     for (i, case) in cases.iter().enumerate() {
         let model = deck::parse(&case.model_deck).unwrap();
         let test = read_back(case);
         let t = Instant::now();
-        let truth: Vec<(String, f64)> =
-            case.params.iter().map(|p| (p.name.clone(), p.value)).collect();
+        let truth: Vec<(String, f64)> = case
+            .params
+            .iter()
+            .map(|p| (p.name.clone(), p.value))
+            .collect();
         match update(&model, &test, &UpdateOptions::default()) {
             Ok(r) => {
                 ran += 1;
                 let est: Vec<ReportEstimate> = r
                     .parameter_values()
                     .into_iter()
-                    .map(|(name, value)| ReportEstimate { name, value, sd: None, identified: true })
+                    .map(|(name, value)| ReportEstimate {
+                        name,
+                        value,
+                        sd: None,
+                        identified: true,
+                    })
                     .collect();
                 let s = score_estimates(&truth, &est);
                 within += usize::from(s.within == Some(true));
@@ -146,7 +175,11 @@ fn fixed_seed_subset() {
             }
             Err(e) => {
                 errors += 1;
-                println!("case {i}: {} {}: error {e}", case.structure.name(), case.layout.name());
+                println!(
+                    "case {i}: {} {}: error {e}",
+                    case.structure.name(),
+                    case.layout.name()
+                );
             }
         }
     }

@@ -11,8 +11,7 @@ use std::path::Path;
 use frfup_parsers::deck::{self, Deck};
 
 use super::{
-    round_sig, AxisKind, DampingSpec, Effect, LayoutKind, ParamTruth, Rng, StructureKind,
-    Support,
+    round_sig, AxisKind, DampingSpec, Effect, LayoutKind, ParamTruth, Rng, StructureKind, Support,
 };
 use crate::model::{self, ParameterValues};
 use crate::simulate::{self, Band, Campaign, NodeDirection, Sensors};
@@ -179,9 +178,7 @@ impl Structure {
         let beams: f64 = self
             .beams
             .iter()
-            .map(|b| {
-                self.materials[b.material].rho * self.sections[b.section].a * self.length(b)
-            })
+            .map(|b| self.materials[b.material].rho * self.sections[b.section].a * self.length(b))
             .sum();
         beams + self.masses.iter().map(|m| m.2).sum::<f64>()
     }
@@ -292,7 +289,10 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
     let (layout, fixed, points) = layout::draw(&st, &fe, rng)?;
     let elastic = truth_modes[n_rb..n_rb + n_modes].to_vec();
     let next = truth_modes[n_rb + n_modes];
-    let f_end = round_sig(elastic[n_modes - 1] + 0.5 * (next - elastic[n_modes - 1]), 4);
+    let f_end = round_sig(
+        elastic[n_modes - 1] + 0.5 * (next - elastic[n_modes - 1]),
+        4,
+    );
     let (axis, lines) = draw_axis(rng, &truth_modes[..n_rb], &elastic, f_end, damping, opts);
     let noise = round_sig(rng.range(0.005, 0.03), 3);
     let binary = rng.chance(0.5);
@@ -360,7 +360,11 @@ fn draw_damping(rng: &mut Rng) -> DampingSpec {
 /// (α, β stand for ζ_a, ζ_b): β = 2(ζ_b ω_b − ζ_a ω_a)/(ω_b² − ω_a²),
 /// α = 2 ω_a ω_b (ζ_a ω_b − ζ_b ω_a)/(ω_b² − ω_a²), both clamped ≥ 0.
 pub fn rescale_rayleigh(d: DampingSpec, f_a: f64, f_b: f64) -> DampingSpec {
-    let DampingSpec::Rayleigh { alpha: za, beta: zb } = d else {
+    let DampingSpec::Rayleigh {
+        alpha: za,
+        beta: zb,
+    } = d
+    else {
         return d;
     };
     let (wa, wb) = (
@@ -392,7 +396,12 @@ fn draw_axis(
     let count = wanted.clamp(400.min(opts.max_lines), opts.max_lines);
     let count = (count as f64 * rng.range(0.8, 1.0)).round().max(50.0) as usize;
     let axis = *rng
-        .pick(&[AxisKind::Even, AxisKind::Even, AxisKind::Log, AxisKind::Jittered])
+        .pick(&[
+            AxisKind::Even,
+            AxisKind::Even,
+            AxisKind::Log,
+            AxisKind::Jittered,
+        ])
         .unwrap_or(&AxisKind::Even);
     // Lines are rounded to what an ASCII 58 record holds (6 digits), so the
     // file's axis is the simulated one.

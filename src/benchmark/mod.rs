@@ -19,7 +19,10 @@ pub mod generate;
 pub mod score;
 
 pub use generate::{case_seed, generate, Case, GenError, GenOptions, Structure};
-pub use score::{message_class, score_estimates, score_report, summary_markdown, CaseScore, ReportEstimate, RunRecord};
+pub use score::{
+    message_class, score_estimates, score_report, summary_markdown, CaseScore, ReportEstimate,
+    RunRecord,
+};
 
 use crate::testdata::MeasuredFrfs;
 

@@ -143,13 +143,31 @@ pub struct RunRecord {
 impl RunRecord {
     /// Exit 1, or a report that says not converged.
     pub fn not_converged(&self) -> bool {
-        self.exit_code == Some(1) || (self.exit_code == Some(0) && self.score.converged == Some(false))
+        self.exit_code == Some(1)
+            || (self.exit_code == Some(0) && self.score.converged == Some(false))
     }
     /// Column names of [`RunRecord::csv_fields`].
     pub const CSV_HEADER: [&'static str; 20] = [
-        "case", "structure", "layout", "support", "damping", "format", "axis", "dofs", "channels",
-        "noise", "exit_code", "seconds", "converged", "stop", "parameters", "identified",
-        "max_error", "within", "covered_2sd", "message",
+        "case",
+        "structure",
+        "layout",
+        "support",
+        "damping",
+        "format",
+        "axis",
+        "dofs",
+        "channels",
+        "noise",
+        "exit_code",
+        "seconds",
+        "converged",
+        "stop",
+        "parameters",
+        "identified",
+        "max_error",
+        "within",
+        "covered_2sd",
+        "message",
     ];
     /// The CSV row.
     pub fn csv_fields(&self) -> Vec<String> {
@@ -207,11 +225,14 @@ pub fn message_class(message: &str) -> String {
 fn group_row(name: &str, rows: &[&RunRecord]) -> String {
     let n = rows.len();
     let within = rows.iter().filter(|r| r.score.within == Some(true)).count();
-    let (cov, with_sd) = rows
-        .iter()
-        .fold((0, 0), |a, r| (a.0 + r.score.covered, a.1 + r.score.with_sd));
+    let (cov, with_sd) = rows.iter().fold((0, 0), |a, r| {
+        (a.0 + r.score.covered, a.1 + r.score.with_sd)
+    });
     let coverage = if with_sd > 0 {
-        format!("{:.1} % ({cov}/{with_sd})", 100.0 * cov as f64 / with_sd as f64)
+        format!(
+            "{:.1} % ({cov}/{with_sd})",
+            100.0 * cov as f64 / with_sd as f64
+        )
     } else {
         "n/a".to_string()
     };

@@ -98,7 +98,14 @@ pub fn draw(
             break;
         }
         let magnitude = rng.range(0.03, 0.4);
-        let value = round_sig(if rng.chance(0.5) { magnitude } else { -magnitude }, 4);
+        let value = round_sig(
+            if rng.chance(0.5) {
+                magnitude
+            } else {
+                -magnitude
+            },
+            4,
+        );
         let mut p = ParamTruth {
             name: c.name,
             quantity: c.quantity,
@@ -109,7 +116,10 @@ pub fn draw(
             sd: (bounded && rng.chance(0.5)).then_some(0.5),
             visibility: 0.0,
         };
-        p.visibility = round_sig(visibility(st, &p, &base[..count.min(base.len())], count)?, 4);
+        p.visibility = round_sig(
+            visibility(st, &p, &base[..count.min(base.len())], count)?,
+            4,
+        );
         if p.visibility >= MIN_VISIBILITY {
             out.push(p);
         }

@@ -1,6 +1,8 @@
 //! Random structures: geometry, sections, materials, lumped masses, supports.
 
-use super::{modes_hz, parse_deck, BeamElement, GenOptions, MaterialProps, SectionProps, Structure};
+use super::{
+    modes_hz, parse_deck, BeamElement, GenOptions, MaterialProps, SectionProps, Structure,
+};
 use crate::benchmark::{round_sig, Rng, StructureKind, Support};
 use crate::model::ParameterValues;
 
@@ -151,11 +153,13 @@ pub fn build(
         },
     };
     for i in 0..rng.int(1, 2) {
-        b.st.materials.push(draw_material(&format!("mat{}", i + 1), rng));
+        b.st.materials
+            .push(draw_material(&format!("mat{}", i + 1), rng));
     }
     for i in 0..rng.int(1, 2) {
         let d = scale * rng.range(1.0 / 40.0, 1.0 / 15.0);
-        b.st.sections.push(draw_section(&format!("sec{}", i + 1), d, rng));
+        b.st.sections
+            .push(draw_section(&format!("sec{}", i + 1), d, rng));
     }
     let per_node = if plane { 3 } else { 6 };
     let dofs = rng.int(opts.min_dofs, opts.max_dofs.max(opts.min_dofs));
@@ -182,7 +186,10 @@ fn geometry(
         StructureKind::Beam => (vec![[0.0; 3], [len(0.8, 3.0), 0.0, 0.0]], vec![(0, 1)]),
         StructureKind::LFrame => {
             let (h, w) = (len(0.5, 1.5), len(0.5, 1.5));
-            (vec![[0.0; 3], [0.0, 0.0, h], [w, 0.0, h]], vec![(0, 1), (1, 2)])
+            (
+                vec![[0.0; 3], [0.0, 0.0, h], [w, 0.0, h]],
+                vec![(0, 1), (1, 2)],
+            )
         }
         StructureKind::TFrame => {
             let (w, h) = (len(0.5, 1.2), len(0.5, 1.5));
@@ -199,7 +206,16 @@ fn geometry(
             let feet = [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, c, 0.0], [0.0, c, 0.0]];
             let mut p: Vec<[f64; 3]> = feet.to_vec();
             p.extend(feet.iter().map(|f| [f[0], f[1], h]));
-            let m = vec![(0, 4), (1, 5), (2, 6), (3, 7), (4, 5), (5, 6), (6, 7), (7, 4)];
+            let m = vec![
+                (0, 4),
+                (1, 5),
+                (2, 6),
+                (3, 7),
+                (4, 5),
+                (5, 6),
+                (6, 7),
+                (7, 4),
+            ];
             (p, m)
         }
         StructureKind::SpaceFrame => {
@@ -211,7 +227,10 @@ fn geometry(
     let dist = |a: [f64; 3], c: [f64; 3]| {
         ((a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2) + (a[2] - c[2]).powi(2)).sqrt()
     };
-    let total: f64 = members.iter().map(|&(i, j)| dist(points[i], points[j])).sum();
+    let total: f64 = members
+        .iter()
+        .map(|&(i, j)| dist(points[i], points[j]))
+        .sum();
     let h = total / nodes_wanted.saturating_sub(points.len()).max(members.len()) as f64;
     let ids: Vec<u32> = points.iter().map(|&p| b.node(p)).collect();
     for &(i, j) in &members {
@@ -222,17 +241,30 @@ fn geometry(
     let pin_main = if plane { "x,z" } else { "x,y,z" };
     // (node, DOFs fixed when pinned, clamped here too?)
     let (supports, key): (Vec<(u32, &'static str, bool)>, Vec<u32>) = match kind {
-        StructureKind::Beam if plane => (vec![(ids[0], "x,z", true), (ids[1], "z", false)], vec![ids[0], ids[1]]),
+        StructureKind::Beam if plane => (
+            vec![(ids[0], "x,z", true), (ids[1], "z", false)],
+            vec![ids[0], ids[1]],
+        ),
         StructureKind::Beam => (
             vec![(ids[0], "x,y,z,rx", true), (ids[1], "y,z", false)],
             vec![ids[0], ids[1]],
         ),
-        StructureKind::LFrame => (vec![(ids[0], "x,z", true), (ids[2], "x,z", false)], vec![ids[0], ids[2]]),
-        StructureKind::TFrame => (
-            vec![(ids[3], "x,z", true), (ids[0], "z", false), (ids[2], "z", false)],
+        StructureKind::LFrame => (
+            vec![(ids[0], "x,z", true), (ids[2], "x,z", false)],
             vec![ids[0], ids[2]],
         ),
-        StructureKind::Portal => (vec![(ids[0], "x,z", true), (ids[3], "x,z", true)], vec![ids[0], ids[3]]),
+        StructureKind::TFrame => (
+            vec![
+                (ids[3], "x,z", true),
+                (ids[0], "z", false),
+                (ids[2], "z", false),
+            ],
+            vec![ids[0], ids[2]],
+        ),
+        StructureKind::Portal => (
+            vec![(ids[0], "x,z", true), (ids[3], "x,z", true)],
+            vec![ids[0], ids[3]],
+        ),
         StructureKind::SpaceFrame if ids.len() == 8 => (
             (0..4).map(|i| (ids[i], pin_main, true)).collect(),
             vec![ids[0], ids[1], ids[2]],
@@ -283,7 +315,11 @@ pub fn suspend(st: &mut Structure, rng: &mut Rng) -> Result<(), String> {
     let ws = 2.0 * std::f64::consts::PI * f1 / rng.range(6.0, 12.0);
     let n = st.key_nodes.len() as f64;
     let k = round_sig(st.total_mass() * ws * ws / n, 4);
-    let dirs: &[&'static str] = if st.plane { &["x", "z"] } else { &["x", "y", "z"] };
+    let dirs: &[&'static str] = if st.plane {
+        &["x", "z"]
+    } else {
+        &["x", "y", "z"]
+    };
     let mut id = 1;
     for &node in &st.key_nodes.clone() {
         for &d in dirs {
@@ -300,7 +336,8 @@ pub fn suspend(st: &mut Structure, rng: &mut Rng) -> Result<(), String> {
                 st.materials[b.material].rho * (s.iy + s.iz) * st.length(b)
             })
             .sum();
-        st.springs.push((id, st.key_nodes[0], "rx", round_sig(polar * ws * ws, 4)));
+        st.springs
+            .push((id, st.key_nodes[0], "rx", round_sig(polar * ws * ws, 4)));
     }
     Ok(())
 }
