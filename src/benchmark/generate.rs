@@ -271,7 +271,7 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
     }
     let damping = rescale_rayleigh(draw_damping(rng), base[n_rb], base[n_rb + n_modes - 1]);
     st.damping = Some(damping);
-    let params = params::draw(&st, &nominal, &base, n_rb, n_modes, rng, opts)?;
+    let params = params::draw(&st, &base, n_rb, n_modes, rng, opts)?;
     let values: ParameterValues = params.iter().map(|p| (p.name.clone(), p.value)).collect();
     let mut truth_st = st.clone();
     opts.effect.apply_to_structure(&mut truth_st, rng);

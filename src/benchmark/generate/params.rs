@@ -82,7 +82,6 @@ fn visibility(st: &Structure, p: &ParamTruth, base: &[f64], count: usize) -> Res
 /// get `min=-0.6 max=0.6` and some parameters `sd=0.5`.
 pub fn draw(
     st: &Structure,
-    _nominal: &Deck,
     base: &[f64],
     n_rb: usize,
     n_modes: usize,
