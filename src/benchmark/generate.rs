@@ -275,7 +275,17 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
     let values: ParameterValues = params.iter().map(|p| (p.name.clone(), p.value)).collect();
     let mut truth_st = st.clone();
     opts.effect.apply_to_structure(&mut truth_st, rng);
-    let truth_text = truth_st.deck_text("truth", &params);
+    // The truth deck carries no bounds (only the model deck has them).
+    let bare: Vec<ParamTruth> = params
+        .iter()
+        .map(|p| ParamTruth {
+            min: None,
+            max: None,
+            sd: None,
+            ..p.clone()
+        })
+        .collect();
+    let truth_text = truth_st.deck_text("truth", &bare);
     let truth = parse_deck(&truth_text)?;
     let truth_modes = modes_hz(&truth, &values, n_rb + n_modes + 1)?;
     if truth_modes.len() < n_rb + n_modes + 1 {

@@ -66,7 +66,14 @@ fn candidates(st: &Structure, rng: &mut Rng) -> Vec<Candidate> {
 
 /// Largest |Δf/f| of the first `count` modes for p = 0.1 of `p` alone.
 fn visibility(st: &Structure, p: &ParamTruth, base: &[f64], count: usize) -> Result<f64, String> {
-    let deck: Deck = parse_deck(&st.deck_text("probe", std::slice::from_ref(p)))?;
+    // Without bounds: the generator's own decks need no `min`/`max`/`sd`.
+    let bare = ParamTruth {
+        min: None,
+        max: None,
+        sd: None,
+        ..p.clone()
+    };
+    let deck: Deck = parse_deck(&st.deck_text("probe", std::slice::from_ref(&bare)))?;
     let values: ParameterValues = [(p.name.clone(), 0.1)].into_iter().collect();
     let modes = modes_hz(&deck, &values, count)?;
     Ok(modes
