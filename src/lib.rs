@@ -23,4 +23,5 @@ pub mod updating;
 
 pub use frfup_parsers as parsers;
 pub mod batch;
+pub mod benchmark;
 pub mod commands;

@@ -83,8 +83,14 @@ enum Command {
     Simulate {
         deck: PathBuf,
         /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
+        /// Required unless --response is given.
         #[arg(long, allow_hyphen_values = true)]
-        input: String,
+        input: Option<String>,
+        /// Roving hammer: the fixed sensor NODE:DIR; the hammer hits each --sensors
+        /// point, so record i has this response and reference = hit point i (one
+        /// row of the FRF matrix, by reciprocity).
+        #[arg(long, allow_hyphen_values = true)]
+        response: Option<String>,
         /// Frequency lines F0:F1:N (Hz).
         #[arg(long, allow_hyphen_values = true)]
         band: String,
@@ -402,6 +408,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
         Command::Simulate {
             deck,
             input,
+            response,
             band,
             out,
             output,
@@ -413,9 +420,23 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             single,
         } => {
             use commands::simulate as sim;
+            let response = response
+                .map(|r| sim::parse_node_direction(&r, "--response"))
+                .transpose()?;
+            let input = match (input, response) {
+                (Some(i), _) => sim::parse_node_direction(&i, "--input")?,
+                (None, Some(r)) => r,
+                (None, None) => {
+                    return Err(CommandError::input(
+                        "simulate needs --input NODE:DIR (fixed exciter) or --response NODE:DIR (roving hammer)",
+                    ))
+                }
+            };
             let campaign = frfup::simulate::Campaign {
-                input: sim::parse_node_direction(&input, "--input")?,
+                input,
                 band: sim::parse_band(&band)?,
+                lines_hz: None,
+                response,
                 output: match output {
                     OutputKind::Receptance => FrfKind::Receptance,
                     OutputKind::Mobility => FrfKind::Mobility,

@@ -2,6 +2,12 @@
 //! (optionally with changed parameter values, i.e. known defects) at chosen
 //! sensor DOFs for one excitation DOF, with reproducible complex Gaussian noise.
 //! This is how fixtures and benchmarks are made (`frfup simulate`).
+//!
+//! Two layouts: a fixed exciter (one column of the FRF matrix: every record
+//! has the input as reference) or, with [`Campaign::response`], a roving
+//! hammer (one row: a fixed sensor, the hammer moved over the `sensors`
+//! points; record i has reference = hit point i and response = the fixed
+//! sensor, computed by reciprocity H_ij = H_ji from one solve).
 
 use faer::c64;
 use frfup_parsers::deck::Deck;
@@ -52,9 +58,16 @@ pub enum Sensors {
 /// What to simulate.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Campaign {
-    /// Excitation DOF (test node id and direction).
+    /// Excitation DOF (test node id and direction). Ignored when `response`
+    /// is set (the hit points are then the `sensors`).
     pub input: NodeDirection,
     pub band: Band,
+    /// Explicit frequency lines (Hz, ascending, ≥ 0) instead of `band`'s even
+    /// ones: an uneven axis, written as an uneven-abscissa 58 record.
+    pub lines_hz: Option<Vec<f64>>,
+    /// Roving hammer: the fixed sensor. Record i then has this response and
+    /// reference = `sensors[i]` (the hit point).
+    pub response: Option<NodeDirection>,
     pub output: FrfKind,
     pub sensors: Sensors,
     /// Noise standard deviation as a fraction of each channel's RMS |H|.
@@ -111,13 +124,20 @@ pub fn simulate(
             campaign.noise
         )));
     }
+    let lines = campaign_lines(campaign)?;
     let fe = model::build(deck, values).map_err(SimulateError::Model)?;
-    let (input_eq, input_sign) = fe
-        .measured_dof(campaign.input.node, campaign.input.direction)
-        .ok_or(SimulateError::UnknownDof {
-            what: "input".into(),
-            dof: campaign.input,
-        })?;
+    // With a roving hammer the fixed sensor takes the place of the input: by
+    // reciprocity H(sensor, hit) = H(hit, sensor), one solve for all hits.
+    let (driven, what) = match campaign.response {
+        Some(r) => (r, "response"),
+        None => (campaign.input, "input"),
+    };
+    let (input_eq, input_sign) =
+        fe.measured_dof(driven.node, driven.direction)
+            .ok_or(SimulateError::UnknownDof {
+                what: what.into(),
+                dof: driven,
+            })?;
     let sensors = sensor_list(&fe, &campaign.sensors)?;
     let mut outputs = Vec::with_capacity(sensors.len());
     let mut signs = Vec::with_capacity(sensors.len());
@@ -131,7 +151,6 @@ pub fn simulate(
         outputs.push(eq);
         signs.push(sign);
     }
-    let lines = campaign.band.lines_hz();
     let omegas: Vec<f64> = lines
         .iter()
         .map(|f| 2.0 * std::f64::consts::PI * f)
@@ -170,11 +189,15 @@ pub fn simulate(
                     *v += c64::new(sigma * rng.next(), sigma * rng.next());
                 }
             }
+            let (response, reference) = match campaign.response {
+                Some(r) => (r, *s),
+                None => (*s, campaign.input),
+            };
             Channel {
-                response_node: s.node as i64,
-                response_direction: s.direction,
-                reference_node: campaign.input.node as i64,
-                reference_direction: campaign.input.direction,
+                response_node: response.node as i64,
+                response_direction: response.direction,
+                reference_node: reference.node as i64,
+                reference_direction: reference.direction,
                 values,
             }
         })
@@ -184,6 +207,50 @@ pub fn simulate(
         kind: campaign.output,
         channels,
     })
+}
+
+/// The frequency lines of a campaign: the explicit list if given (checked
+/// finite, ≥ 0 and strictly ascending), else the band's even lines.
+fn campaign_lines(campaign: &Campaign) -> Result<Vec<f64>, SimulateError> {
+    let Some(lines) = &campaign.lines_hz else {
+        return Ok(campaign.band.lines_hz());
+    };
+    if lines.is_empty() {
+        return Err(SimulateError::Invalid(
+            "the list of frequency lines is empty".into(),
+        ));
+    }
+    if let Some(i) = (0..lines.len()).find(|&i| {
+        !(lines[i].is_finite() && lines[i] >= 0.0) || (i > 0 && !(lines[i] > lines[i - 1]))
+    }) {
+        return Err(SimulateError::Invalid(format!(
+            "frequency line {} ({} Hz) must be finite, >= 0 and above the previous one",
+            i + 1,
+            lines[i]
+        )));
+    }
+    Ok(lines.clone())
+}
+
+/// The abscissa of a frequency axis: `Even` when every step equals the first
+/// to 1e-9 of the span, else the explicit `Uneven` list.
+fn abscissa_of(lines: &[f64]) -> Abscissa {
+    let start = lines.first().copied().unwrap_or(0.0);
+    let step = if lines.len() > 1 {
+        lines[1] - lines[0]
+    } else {
+        0.0
+    };
+    let span = lines.last().copied().unwrap_or(0.0).abs().max(1e-300);
+    let even = lines
+        .iter()
+        .enumerate()
+        .all(|(i, f)| (f - (start + step * i as f64)).abs() <= 1e-9 * span);
+    if even {
+        Abscissa::Even { start, step }
+    } else {
+        Abscissa::Uneven(lines.to_vec())
+    }
 }
 
 /// The sensors of a campaign as test node/direction pairs.
@@ -218,11 +285,7 @@ pub fn to_uff_records(
     double: bool,
     binary: bool,
 ) -> Vec<Function58> {
-    let step = if frfs.frequencies_hz.len() > 1 {
-        frfs.frequencies_hz[1] - frfs.frequencies_hz[0]
-    } else {
-        0.0
-    };
+    let abscissa = abscissa_of(&frfs.frequencies_hz);
     let (label, units) = match frfs.kind {
         FrfKind::Receptance => ("Displacement", "m"),
         FrfKind::Mobility => ("Velocity", "m/s"),
@@ -250,10 +313,7 @@ pub fn to_uff_records(
             reference_node: ch.reference_node,
             reference_direction: ch.reference_direction,
             ordinate_type: if double { 6 } else { 5 },
-            abscissa: Abscissa::Even {
-                start: frfs.frequencies_hz.first().copied().unwrap_or(0.0),
-                step,
-            },
+            abscissa: abscissa.clone(),
             z_axis_value: 0.0,
             abscissa_axis: axis(18, 0, 0, "Frequency", "Hz"),
             numerator_axis: axis(frfs.kind.uff_data_type(), 1, 0, label, units),

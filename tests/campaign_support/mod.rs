@@ -11,6 +11,8 @@ pub fn z_campaign(input: u32, nodes: &[u32], band: Band) -> Campaign {
     Campaign {
         input: z(input),
         band,
+        lines_hz: None,
+        response: None,
         output: FrfKind::Accelerance,
         sensors: Sensors::List(nodes.iter().map(|&n| z(n)).collect()),
         noise: 0.0,

@@ -562,6 +562,9 @@ fn uncertainty(
     }
     // The data's information over the free structural parameters.
     let ip: Vec<usize> = (0..n).filter(|&a| idx[a] < np).collect();
+    if ip.is_empty() {
+        return u;
+    }
     let info_p = DMatrix::from_fn(ip.len(), ip.len(), |a, c| info[(ip[a], ip[c])]) / s2;
     let eig = SymmetricEigen::new(info_p);
     let floor = eig.eigenvalues.iter().fold(0.0f64, |m, l| m.max(l.abs())) * 1e-14;

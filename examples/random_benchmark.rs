@@ -1,0 +1,298 @@
+//! The randomised benchmark of `frfup update` (issue 16, item 5).
+//!
+//!   cargo run --release --example random_benchmark -- --cases 200 --seed 1 \
+//!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
+//!       [--update-arg ARG]...
+//!
+//! Generates the cases (frfup::benchmark) into DIR/case-NNN/ (model.deck,
+//! truth.deck, test.uff, truth.json), runs the release `frfup` binary as a
+//! user would — `frfup update model.deck test.uff --out CASE/out`, no other
+//! flag (unless `--update-arg` adds some, for comparisons) — `--jobs` at a time, scores each CASE/out/report.json against
+//! truth.json, writes DIR/cases.csv and DIR/summary.md and prints the summary.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+
+use frfup::benchmark::{
+    case_seed, generate, score_report, summary_markdown, GenOptions, RunRecord,
+};
+
+struct Args {
+    cases: usize,
+    seed: u64,
+    out: PathBuf,
+    jobs: usize,
+    frfup: Option<PathBuf>,
+    timeout: f64,
+    bounds: bool,
+    generate_only: bool,
+    /// Extra arguments of `frfup update` (none for the benchmark proper).
+    update_args: Vec<String>,
+}
+
+fn parse_args() -> Result<Args, String> {
+    let mut a = Args {
+        cases: 200,
+        seed: 1,
+        out: PathBuf::from("random-benchmark"),
+        jobs: 2,
+        frfup: None,
+        timeout: 600.0,
+        bounds: false,
+        generate_only: false,
+        update_args: Vec::new(),
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(flag) = it.next() {
+        let mut value = || it.next().ok_or(format!("{flag} needs a value"));
+        match flag.as_str() {
+            "--cases" => a.cases = value()?.parse().map_err(|_| "--cases: a count")?,
+            "--seed" => a.seed = value()?.parse().map_err(|_| "--seed: an integer")?,
+            "--out" => a.out = PathBuf::from(value()?),
+            "--jobs" => a.jobs = value()?.parse().map_err(|_| "--jobs: a count")?,
+            "--frfup" => a.frfup = Some(PathBuf::from(value()?)),
+            "--timeout" => a.timeout = value()?.parse().map_err(|_| "--timeout: seconds")?,
+            "--bounds" => a.bounds = true,
+            "--generate-only" => a.generate_only = true,
+            "--update-arg" => a.update_args.push(value()?),
+            other => return Err(format!("unknown argument {other:?}")),
+        }
+    }
+    a.jobs = a.jobs.max(1);
+    Ok(a)
+}
+
+fn main() {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--update-arg ARG]...");
+            std::process::exit(2);
+        }
+    };
+    if let Err(e) = run(&args) {
+        eprintln!("random_benchmark: {e}");
+        std::process::exit(2);
+    }
+}
+
+/// The `frfup` binary beside this example's folder (target/release/frfup).
+fn frfup_binary(args: &Args) -> Result<PathBuf, String> {
+    if let Some(p) = &args.frfup {
+        return Ok(p.clone());
+    }
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let bin = exe
+        .parent()
+        .and_then(Path::parent)
+        .map(|d| d.join("frfup"))
+        .ok_or("cannot locate the frfup binary")?;
+    if !bin.exists() {
+        return Err(format!(
+            "{} not found: build it first (cargo build --release) or pass --frfup PATH",
+            bin.display()
+        ));
+    }
+    Ok(bin)
+}
+
+/// Run `work(i)` for i in 0..n on `jobs` threads; results in index order.
+fn parallel<T: Send>(n: usize, jobs: usize, work: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let next = AtomicUsize::new(0);
+    let out: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    std::thread::scope(|s| {
+        for _ in 0..jobs.min(n.max(1)) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                if i >= n {
+                    break;
+                }
+                let r = work(i);
+                if let Ok(mut o) = out.lock() {
+                    o[i] = Some(r);
+                }
+            });
+        }
+    });
+    out.into_inner()
+        .unwrap_or_default()
+        .into_iter()
+        .flatten()
+        .collect()
+}
+
+/// What the runner keeps of a generated case.
+struct Generated {
+    record: RunRecord,
+    truth: Vec<(String, f64)>,
+    dir: PathBuf,
+}
+
+fn generate_case(args: &Args, i: usize) -> Result<Generated, String> {
+    let opts = GenOptions {
+        bounds: args.bounds,
+        ..GenOptions::default()
+    };
+    let seed = case_seed(args.seed, i as u64);
+    let case = generate(seed, &opts).map_err(|e| e.to_string())?;
+    let dir = args.out.join(format!("case-{i:03}"));
+    case.write(&dir).map_err(|e| e.to_string())?;
+    let record = RunRecord {
+        case: format!("case-{i:03}"),
+        structure: format!(
+            "{} ({})",
+            case.structure.name(),
+            if case.plane { "plane" } else { "space" }
+        ),
+        layout: case.layout.name().to_string(),
+        support: case.support.name().to_string(),
+        damping: case.damping.name().to_string(),
+        format: if case.binary { "58b" } else { "ascii" }.to_string(),
+        axis: case.axis.name().to_string(),
+        dofs: case.dofs,
+        channels: case.points.len(),
+        noise: case.noise,
+        ..RunRecord::default()
+    };
+    let truth = case
+        .params
+        .iter()
+        .map(|p| (p.name.clone(), p.value))
+        .collect();
+    Ok(Generated { record, truth, dir })
+}
+
+/// `frfup update model.deck test.uff --out DIR/out`, killed after `timeout` s.
+fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRecord {
+    let mut r = g.record.clone();
+    let out = g.dir.join("out");
+    let files = (
+        std::fs::File::create(g.dir.join("update.stdout")),
+        std::fs::File::create(g.dir.join("update.stderr")),
+    );
+    let (Ok(so), Ok(se)) = files else {
+        r.message = "cannot create the log files".into();
+        return r;
+    };
+    let start = Instant::now();
+    let child = Command::new(bin)
+        .arg("update")
+        .arg(g.dir.join("model.deck"))
+        .arg(g.dir.join("test.uff"))
+        .arg("--out")
+        .arg(&out)
+        .args(extra)
+        .stdin(Stdio::null())
+        .stdout(so)
+        .stderr(se)
+        .spawn();
+    let mut child = match child {
+        Ok(c) => c,
+        Err(e) => {
+            r.message = format!("cannot start {}: {e}", bin.display());
+            return r;
+        }
+    };
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(s)) => break Some(s),
+            Ok(None) if start.elapsed().as_secs_f64() > timeout => {
+                let _ = child.kill();
+                let _ = child.wait();
+                r.message = format!("timed out after {timeout} s");
+                break None;
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => {
+                r.message = e.to_string();
+                break None;
+            }
+        }
+    };
+    r.seconds = start.elapsed().as_secs_f64();
+    r.exit_code = status.and_then(|s| s.code());
+    if r.exit_code != Some(0) && r.message.is_empty() {
+        let err = std::fs::read_to_string(g.dir.join("update.stderr")).unwrap_or_default();
+        r.message = err
+            .lines()
+            .rev()
+            .find(|l| !l.trim().is_empty())
+            .unwrap_or("")
+            .trim()
+            .to_string();
+    }
+    let report = std::fs::read_to_string(out.join("report.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
+    if let Some(report) = report {
+        r.score = score_report(&g.truth, &report);
+    } else {
+        r.score.parameters = g.truth.len();
+    }
+    r
+}
+
+fn run(args: &Args) -> Result<(), String> {
+    let bin = if args.generate_only {
+        PathBuf::new()
+    } else {
+        frfup_binary(args)?
+    };
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
+    let t = Instant::now();
+    let generated = parallel(args.cases, args.jobs, |i| generate_case(args, i));
+    let mut cases = Vec::new();
+    for (i, g) in generated.into_iter().enumerate() {
+        match g {
+            Ok(g) => cases.push(g),
+            Err(e) => eprintln!("case {i}: {e}"),
+        }
+    }
+    eprintln!(
+        "generated {} case(s) in {:.1} s into {}",
+        cases.len(),
+        t.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    if args.generate_only {
+        return Ok(());
+    }
+    let done = AtomicUsize::new(0);
+    let rows = parallel(cases.len(), args.jobs, |i| {
+        let r = run_case(&bin, &cases[i], args.timeout, &args.update_args);
+        let k = done.fetch_add(1, Ordering::SeqCst) + 1;
+        eprintln!(
+            "[{k}/{}] {} {} {} exit {:?} {:.2} s max error {}",
+            cases.len(),
+            r.case,
+            r.structure,
+            r.layout,
+            r.exit_code,
+            r.seconds,
+            r.score
+                .max_error
+                .map(|e| format!("{e:.4}"))
+                .unwrap_or_else(|| "-".into())
+        );
+        r
+    });
+    write_csv(&args.out.join("cases.csv"), &rows)?;
+    let summary = summary_markdown(&rows);
+    std::fs::write(args.out.join("summary.md"), &summary)
+        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+    println!("{summary}");
+    Ok(())
+}
+
+fn write_csv(path: &Path, rows: &[RunRecord]) -> Result<(), String> {
+    let err = |e: csv::Error| format!("{}: {e}", path.display());
+    let mut w = csv::Writer::from_path(path).map_err(err)?;
+    w.write_record(RunRecord::CSV_HEADER).map_err(err)?;
+    for r in rows {
+        w.write_record(r.csv_fields()).map_err(err)?;
+    }
+    w.flush().map_err(|e| format!("{}: {e}", path.display()))
+}
