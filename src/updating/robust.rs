@@ -42,7 +42,7 @@ pub fn update_robust(
     let est = estimate(&EstimateRequest {
         deck,
         data: &data,
-        starts: vec![vec![0.0; np], result.parameters().to_vec()],
+        starts: starts(&result, np),
         max_iter: opts.estimate_iterations,
     })
     .map_err(UpdateError::Estimate)?;
@@ -109,6 +109,24 @@ pub fn update_robust(
     result.estimate = Some(est);
     debug_assert_eq!(result.options.method, UpdateMethod::Robust);
     Ok(result)
+}
+
+/// Where the full-band estimate may start: the deck, the first stage's
+/// returned iterate and its best one by SFDAC mean (a converged iterate can
+/// fit worse than an earlier one).
+fn starts(result: &UpdateResult, np: usize) -> Vec<Vec<f64>> {
+    let mut s = vec![vec![0.0; np], result.parameters().to_vec()];
+    let best = result
+        .iterations
+        .iter()
+        .max_by(|a, b| a.sfdac.mean.total_cmp(&b.sfdac.mean))
+        .map(|r| r.parameters.clone());
+    if let Some(b) = best {
+        if !s.contains(&b) {
+            s.push(b);
+        }
+    }
+    s
 }
 
 /// The measured FRFs for the full-band fit, restricted to the channels the

@@ -218,6 +218,40 @@ impl Objective<'_> {
         Some(cols)
     }
 
+    /// ∂r/∂x by forward differences (step 1e-5 in p̄, 1e-4 in the damping's
+    /// logs), zero columns for the fixed unknowns.
+    fn exact_jacobian(
+        &mut self,
+        x: &[f64],
+        r: &[f64],
+        lo: &[f64],
+        hi: &[f64],
+        free: &[bool],
+    ) -> Option<Vec<Vec<f64>>> {
+        let np = self.names.len();
+        let mut cols = Vec::with_capacity(x.len());
+        for i in 0..x.len() {
+            if !free[i] {
+                cols.push(vec![0.0; r.len()]);
+                continue;
+            }
+            let mut h = if i < np { 1e-5 } else { 1e-4 };
+            if x[i] + h > hi[i] && x[i] - h >= lo[i] {
+                h = -h;
+            }
+            let mut xp = x.to_vec();
+            xp[i] += h;
+            let rp = self.residuals(&xp)?;
+            if rp.len() != r.len() {
+                return None;
+            }
+            cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+        }
+        // Leave the model cached at x.
+        self.residuals(x)?;
+        Some(cols)
+    }
+
     /// Residual rows that come from the data (the rest are prior rows).
     fn data_rows(&self, total: usize) -> usize {
         total - self.priors.iter().filter(|p| p.sd.is_some()).count()
@@ -302,7 +336,17 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         (lo2[j], hi2[j], free[j]) = (x1[j], x1[j], false);
     }
     let mut out = minimise(&mut obj, &x1, &lo2, &hi2, req.max_iter, j0)?;
-    let mut sd = uncertainty(&mut obj, &out, &lo2, &hi2, &free, j0).sd;
+    // The analytic Jacobian truncates the modal expansion of ∂φ; at the
+    // optimum the exact one (finite differences, one model solution per free
+    // parameter) makes a last Gauss–Newton step and gives the uncertainty.
+    let exact = obj.exact_jacobian(&out.x, &out.residuals, &lo2, &hi2, &free);
+    if let Some(jac) = &exact {
+        polish(&mut obj, &mut out, jac, &lo2, &hi2, &free);
+    }
+    let mut sd = match &exact {
+        Some(jac) => uncertainty_from(&mut obj, &out, jac, &free, j0).sd,
+        None => uncertainty(&mut obj, &out, &lo2, &hi2, &free, j0).sd,
+    };
     for &j in &unseen {
         sd[j] = seen.sd_data[j];
     }
@@ -513,15 +557,76 @@ fn uncertainty(
     free: &[bool],
     j0: f64,
 ) -> Uncertainty {
+    match obj.jacobian(&out.x, &out.residuals, lo, hi) {
+        Some(jac) => uncertainty_from(obj, out, &jac, free, j0),
+        None => {
+            let np = obj.names.len();
+            Uncertainty {
+                sd: vec![f64::INFINITY; np],
+                sd_data: vec![f64::INFINITY; np],
+                missing: Vec::new(),
+            }
+        }
+    }
+}
+
+/// One Gauss–Newton step over the free unknowns with the Jacobian `jac`,
+/// clamped to the bounds, kept if it lowers F.
+fn polish(
+    obj: &mut Objective,
+    out: &mut fit::LmOutcome,
+    jac: &[Vec<f64>],
+    lo: &[f64],
+    hi: &[f64],
+    free: &[bool],
+) {
+    let idx: Vec<usize> = (0..out.x.len()).filter(|&i| free[i]).collect();
+    let n = idx.len();
+    let mut a = DMatrix::<f64>::zeros(n, n);
+    let mut g = nalgebra::DVector::<f64>::zeros(n);
+    for (p, &ip) in idx.iter().enumerate() {
+        for (q, &iq) in idx.iter().enumerate().take(p + 1) {
+            let v: f64 = jac[ip].iter().zip(&jac[iq]).map(|(x, y)| x * y).sum();
+            a[(p, q)] = v;
+            a[(q, p)] = v;
+        }
+        g[p] = -jac[ip]
+            .iter()
+            .zip(&out.residuals)
+            .map(|(x, y)| x * y)
+            .sum::<f64>();
+        a[(p, p)] *= 1.0 + 1e-9;
+    }
+    let Some(step) = a.cholesky().map(|c| c.solve(&g)) else {
+        return;
+    };
+    let mut x = out.x.clone();
+    for (p, &ip) in idx.iter().enumerate() {
+        x[ip] = (x[ip] + step[p]).clamp(lo[ip], hi[ip]);
+    }
+    let cost = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    if let Some(r) = obj.residuals(&x) {
+        if cost(&r) < cost(&out.residuals) {
+            out.x = x;
+            out.residuals = r;
+        }
+    }
+}
+
+/// [`uncertainty`] with a given Jacobian (columns over every unknown).
+fn uncertainty_from(
+    obj: &mut Objective,
+    out: &fit::LmOutcome,
+    jac: &[Vec<f64>],
+    free: &[bool],
+    j0: f64,
+) -> Uncertainty {
     let (x, r) = (&out.x, &out.residuals);
     let np = obj.names.len();
     let mut u = Uncertainty {
         sd: vec![f64::INFINITY; np],
         sd_data: vec![f64::INFINITY; np],
         missing: Vec::new(),
-    };
-    let Some(jac) = obj.jacobian(x, r, lo, hi) else {
-        return u;
     };
     let idx: Vec<usize> = (0..x.len()).filter(|&i| free[i]).collect();
     let n = idx.len();

@@ -24,6 +24,8 @@ use super::data::TestData;
 #[cfg(test)]
 use super::fit;
 use super::fit::{Mask, ModalSolution};
+use faer::Mat;
+
 use crate::model::{Damping, FeModel};
 use crate::updating::sensitivity::ModalSensitivities;
 
@@ -54,84 +56,87 @@ pub fn parameter_columns(
     let sens = ModalSensitivities::project(&fe.parameters, modes.shapes.as_ref(), &all);
     let lam = &modes.omega2;
     let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs())).max(1e-300);
-    // Per line: 1/d_r and (1 + i∂D/∂λ)/d_r², used lines only.
+    let np = fe.parameters.len();
+    let nc = sol.outputs.len();
+    // Per line: [Re 1/d_r | −Re (1 + i∂D/∂λ)/d_r²] and the same imaginary
+    // parts, used lines only, so that ∂H for every parameter is one product.
     let lines: Vec<usize> = (0..data.omegas.len()).filter(|&l| mask.lines[l]).collect();
-    let mut g = vec![vec![c64::new(0.0, 0.0); nm]; lines.len()];
-    let mut h = vec![vec![c64::new(0.0, 0.0); nm]; lines.len()];
+    let mut gr = Mat::<f64>::zeros(lines.len(), 2 * nm);
+    let mut gi = Mat::<f64>::zeros(lines.len(), 2 * nm);
     for (k, &l) in lines.iter().enumerate() {
         let w = data.omegas[l];
         for r in 0..nm {
             let (d, dd) = denominator(lam[r], w, damping);
             let inv = d.inv();
-            g[k][r] = inv;
-            h[k][r] = dd * inv * inv;
+            let h = dd * inv * inv;
+            gr[(k, r)] = inv.re;
+            gi[(k, r)] = inv.im;
+            gr[(k, nm + r)] = -h.re;
+            gi[(k, nm + r)] = -h.im;
         }
     }
-    let mut cols = Vec::with_capacity(fe.parameters.len());
-    for j in 0..fe.parameters.len() {
+    // Φ at the channels' DOFs and at the input (rows), every computed mode.
+    let mut dofs = sol.outputs.clone();
+    dofs.push(sol.input);
+    let phi_d = Mat::from_fn(dofs.len(), n_all, |d, s| modes.shapes[(dofs[d], s)]);
+    // coef[c]: rows r (∂a_cr) and nm + r (a_cr ∂λ_r), one column per parameter.
+    let mut coef: Vec<Mat<f64>> = (0..nc).map(|_| Mat::zeros(2 * nm, np)).collect();
+    for j in 0..np {
         let (dk, dm) = (&sens.dk[j], &sens.dm[j]);
-        let dlam: Vec<f64> = (0..nm).map(|r| dk[(r, r)] - lam[r] * dm[(r, r)]).collect();
-        // ∂φ_r at the input and at each channel's DOF.
-        let mut dphi_in = vec![0.0; nm];
-        let mut dphi_out = vec![vec![0.0; nm]; sol.outputs.len()];
-        for r in 0..nm {
-            for s in 0..n_all {
-                let gap = lam[r] - lam[s];
-                let c = if s == r || gap.abs() < 1e-9 * scale {
-                    -0.5 * dm[(s, r)]
-                } else {
-                    (dk[(s, r)] - lam[r] * dm[(s, r)]) / gap
-                };
-                if c == 0.0 {
-                    continue;
-                }
-                dphi_in[r] += c * modes.shapes[(sol.input, s)];
-                for (o, &eq) in sol.outputs.iter().enumerate() {
-                    dphi_out[o][r] += c * modes.shapes[(eq, s)];
-                }
+        // Expansion coefficients of ∂φ_r over the computed modes.
+        let e = Mat::from_fn(n_all, nm, |s, r| {
+            let gap = lam[r] - lam[s];
+            if s == r || gap.abs() < 1e-9 * scale {
+                -0.5 * dm[(s, r)]
+            } else {
+                (dk[(s, r)] - lam[r] * dm[(s, r)]) / gap
+            }
+        });
+        let dphi = &phi_d * &e;
+        let inp = dofs.len() - 1;
+        for (c, cf) in coef.iter_mut().enumerate() {
+            let a = &sol.model.coeff[c];
+            for r in 0..nm {
+                let dl = dk[(r, r)] - lam[r] * dm[(r, r)];
+                cf[(r, j)] = sol.signs[c]
+                    * (dphi[(c, r)] * phi_d[(inp, r)] + phi_d[(c, r)] * dphi[(inp, r)]);
+                cf[(nm + r, j)] = a[r] * dl;
             }
         }
-        let mut col = Vec::new();
-        for (c, &eq) in sol.outputs.iter().enumerate() {
-            if !mask.channels[c] {
+    }
+    let mut cols: Vec<Vec<f64>> = vec![Vec::new(); np];
+    for (c, cf) in coef.iter().enumerate() {
+        if !mask.channels[c] {
+            continue;
+        }
+        let dr = &gr * cf;
+        let di = &gi * cf;
+        for (k, &l) in lines.iter().enumerate() {
+            let wgt = data.weight[c][l];
+            if wgt == 0.0 {
                 continue;
             }
-            let s_c = sol.signs[c];
-            let a = &sol.model.coeff[c];
-            let da: Vec<f64> = (0..nm)
-                .map(|r| {
-                    s_c * (dphi_out[c][r] * modes.shapes[(sol.input, r)]
-                        + modes.shapes[(eq, r)] * dphi_in[r])
-                })
-                .collect();
-            for (k, &l) in lines.iter().enumerate() {
-                let wgt = data.weight[c][l];
-                if wgt == 0.0 {
-                    continue;
-                }
-                let hm = pred[c][l];
-                let ratio = hm / data.values[c][l];
-                if !(ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0) {
+            let hm = pred[c][l];
+            let ratio = hm / data.values[c][l];
+            let usable = ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0;
+            let w = data.omegas[l];
+            let kind = match data.order {
+                0 => c64::new(1.0, 0.0),
+                1 => c64::new(0.0, w),
+                _ => c64::new(-w * w, 0.0),
+            };
+            let factor = kind / hm;
+            for (j, col) in cols.iter_mut().enumerate() {
+                if usable {
+                    let dlog = c64::new(dr[(k, j)], di[(k, j)]) * factor;
+                    col.push(wgt * dlog.re);
+                    col.push(wgt * dlog.im);
+                } else {
                     col.push(0.0);
                     col.push(0.0);
-                    continue;
                 }
-                let mut dh = c64::new(0.0, 0.0);
-                for r in 0..nm {
-                    dh += g[k][r] * da[r] - h[k][r] * (a[r] * dlam[r]);
-                }
-                let w = data.omegas[l];
-                let kind = match data.order {
-                    0 => c64::new(1.0, 0.0),
-                    1 => c64::new(0.0, w),
-                    _ => c64::new(-w * w, 0.0),
-                };
-                let dlog = dh * kind / hm;
-                col.push(wgt * dlog.re);
-                col.push(wgt * dlog.im);
             }
         }
-        cols.push(col);
     }
     cols
 }
