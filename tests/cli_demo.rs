@@ -82,8 +82,28 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     for name in identifiable {
         let got = report["parameters"][name].as_f64().unwrap();
         let want = truth["parameters"][name].as_f64().unwrap();
-        assert!((got - want).abs() < 0.05, "{name}: {got} vs truth {want}");
+        // Measured with the default pipeline: all within 0.002.
+        assert!((got - want).abs() < 0.01, "{name}: {got} vs truth {want}");
     }
+    // Every parameter the estimate calls identified is within 0.03 of the
+    // truth (measured: largest 0.026, tail_Iz); the wing-root torsions are
+    // reported as not identified and keep the deck's value.
+    let estimates = report["parameter_estimates"].as_array().unwrap();
+    let mut unidentified = Vec::new();
+    for p in estimates {
+        let name = p["name"].as_str().unwrap();
+        let got = p["value"].as_f64().unwrap();
+        let want = truth["parameters"][name].as_f64().unwrap();
+        if p["identified"].as_bool().unwrap() {
+            assert!((got - want).abs() < 0.03, "{name}: {got} vs truth {want}");
+        } else {
+            assert_eq!(got, 0.0, "{name} not identified keeps the deck's value");
+            unidentified.push(name.to_string());
+        }
+    }
+    assert_eq!(unidentified, ["rroot_J", "lroot_J"]);
+    assert_eq!(report["converged"], true);
+    assert_eq!(report["method"], "robust");
     // the updated deck is a valid deck
     let deck = std::fs::read_to_string(out_dir.join("updated.deck")).unwrap();
     frfup_parsers::deck::parse(&deck).expect("updated.deck parses");

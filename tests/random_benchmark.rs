@@ -1,7 +1,8 @@
 //! The fixed-seed subset of the randomised benchmark (issue 16, item 5):
 //! 12 small cases. The generator must be deterministic and every case valid;
 //! the library update runs on each and its figures are printed. Only what
-//! holds today is asserted about the update; tighten after the rework.
+//! the default update must converge on every case and be within 0.02 on all
+//! but at most one.
 
 use std::path::Path;
 use std::time::Instant;
@@ -149,14 +150,18 @@ fn fixed_seed_subset() {
         match update(&model, &test, &UpdateOptions::default()) {
             Ok(r) => {
                 ran += 1;
+                assert!(r.converged, "case {i} did not converge: {:?}", r.stop);
                 let est: Vec<ReportEstimate> = r
-                    .parameter_values()
-                    .into_iter()
-                    .map(|(name, value)| ReportEstimate {
-                        name,
-                        value,
-                        sd: None,
-                        identified: true,
+                    .estimate
+                    .as_ref()
+                    .expect("the default update ends with the full-band estimate")
+                    .parameters
+                    .iter()
+                    .map(|p| ReportEstimate {
+                        name: p.name.clone(),
+                        value: p.value,
+                        sd: Some(p.sd),
+                        identified: p.identified,
                     })
                     .collect();
                 let s = score_estimates(&truth, &est);
@@ -187,7 +192,14 @@ fn fixed_seed_subset() {
         "random subset: {} cases generated in {gen_s:.2} s; update ran on {ran}, refused {errors}; every parameter within 0.02 on {within}",
         cases.len()
     );
-    // Today: the update runs (or refuses with an error) without panicking.
-    // After the rework: assert within >= 12 * 0.95 and errors == 0.
-    assert_eq!(ran + errors, cases.len());
+    // Every case runs and converges (asserted above); at most one of the 12
+    // misses "every identified parameter within 0.02" (the benchmark's target
+    // is 95 %; this subset met it on all 12 when it was fixed).
+    assert_eq!(errors, 0);
+    assert_eq!(ran, cases.len());
+    assert!(
+        within + 1 >= cases.len(),
+        "within 0.02 on {within} of {}",
+        cases.len()
+    );
 }

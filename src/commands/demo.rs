@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::update::{run as run_update, UpdateCommand, UpdateOutcome};
 use super::CommandError;
 use crate::fsio::write_atomic;
-use crate::updating::{ResonanceMethod, UpdateOptions};
+use crate::updating::UpdateOptions;
 
 /// The analyst's deck of the GARTEUR-like test bed with its known bungee
 /// suspension (fixtures/garteur/garteur_suspended.deck).
@@ -15,28 +15,11 @@ pub const GARTEUR_DECK: &str = include_str!("../../fixtures/garteur/garteur_susp
 /// excitation 112 +z, 801 lines to 200 Hz, complex single-precision accelerance.
 pub const GARTEUR_CAMPAIGN: &[u8] = include_bytes!("../../fixtures/garteur/campaign.uff");
 
-/// The options the demo updates with (see the README's GARTEUR section for why).
+/// The options the demo updates with: the defaults, as a user would run
+/// `frfup update` (the robust pipeline: fitted resonances, frequencies
+/// first, damped steps, then the full-band estimate with uncertainties).
 pub fn demo_options() -> UpdateOptions {
-    // The initial GARTEUR-like model is 5–11 % off the test's resonances,
-    // two wing-torsion modes sit 0.65 Hz apart and 26 sensors alias high FE
-    // modes onto low ones. So: resonances and shapes by a multi-channel modal
-    // fit (peak picking merges the torsion pair and misses weak modes); a
-    // first stage on natural frequencies and mode shapes of the clearly paired
-    // modes (MAC ≥ 0.8, ±30 % in frequency); then the paper's FRF equations
-    // around the suspension mode and the first 10 elastic resonances (R = 11),
-    // ±5 % offsets, every step damped (Levenberg–Marquardt, μ = 0.05 σ₁ and
-    // adapted) so that noise cannot blow up the parameters the data barely
-    // see. README, "The GARTEUR-like test bed", has the figures.
-    UpdateOptions {
-        resonances: Some(11),
-        resonance_method: ResonanceMethod::ModalFit,
-        frequencies_first: true,
-        offset: 0.05,
-        damping: 0.05,
-        tol: 0.001,
-        max_iter: 30,
-        ..UpdateOptions::paper()
-    }
+    UpdateOptions::default()
 }
 
 /// Run the demo into `out`: writes `input/garteur.deck`, `input/campaign.uff`

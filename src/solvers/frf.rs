@@ -360,6 +360,65 @@ pub fn static_residual(
         .collect())
 }
 
+/// The static residual of [`static_residual`] and its first correction in
+/// frequency: the modes left out contribute
+/// Σ_high φ_jr φ_ir / (λ_r − ω²) ≈ R0_j + ω² R1_j with
+/// R1_j = Σ_high φ_jr φ_ir / λ_r² (σ-shifted as R0). Computed as
+/// x = (K − σM)⁻¹e_i and v = (K − σM)⁻¹M x̄, each M-orthogonally deflated of
+/// the computed modes (x̄ = x − ΦΦᵀMx), so rigid-body modes cancel exactly.
+/// Units m/N and m/N·s².
+pub fn static_residual_terms(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    modes: &Modes,
+    input: usize,
+    outputs: &[usize],
+) -> Result<(Vec<f64>, Vec<f64>), FrfError> {
+    let scale = eigen::pencil_scale(k, m)?;
+    let n = k.nrows();
+    check_request(n, &[], input, outputs)?;
+    if modes.shapes.nrows() != n {
+        return Err(invalid(format!(
+            "mode shapes have {} rows, model has {n} DOFs",
+            modes.shapes.nrows()
+        )));
+    }
+    let chol = ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio)?;
+    let mass_times = |x: &Mat<f64>| -> Mat<f64> {
+        let mut y = Mat::<f64>::zeros(n, 1);
+        let sym = m.symbolic();
+        for c in 0..n {
+            let xc = x[(c, 0)];
+            if xc == 0.0 {
+                continue;
+            }
+            for (&r, &v) in sym.row_idx_of_col_raw(c).iter().zip(m.val_of_col(c)) {
+                y[(r, 0)] += v * xc;
+            }
+        }
+        y
+    };
+    let deflate = |x: &mut Mat<f64>| {
+        let mx = mass_times(x);
+        for r in 0..modes.len() {
+            let c: f64 = (0..n).map(|i| modes.shapes[(i, r)] * mx[(i, 0)]).sum();
+            for i in 0..n {
+                x[(i, 0)] -= c * modes.shapes[(i, r)];
+            }
+        }
+    };
+    let mut e = Mat::<f64>::zeros(n, 1);
+    e[(input, 0)] = 1.0;
+    let mut x = chol.solve(e.as_ref());
+    deflate(&mut x);
+    let mut v = chol.solve(mass_times(&x).as_ref());
+    deflate(&mut v);
+    Ok((
+        outputs.iter().map(|&j| x[(j, 0)]).collect(),
+        outputs.iter().map(|&j| v[(j, 0)]).collect(),
+    ))
+}
+
 /// CONTRACT. Same quantity by modal superposition over `modes`.
 ///
 /// On invalid input every entry is NaN; use [`try_modal_receptance`] for the

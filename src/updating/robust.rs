@@ -35,7 +35,23 @@ pub fn update_robust(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
-    let mut result = update_model(&mut |v| model::build(deck, v), test, opts, progress)?;
+    let mut result = match update_model(&mut |v| model::build(deck, v), test, opts, progress) {
+        // No resonance stands out of the test's FRFs (heavy damping, a
+        // sparse axis): place the first stage's updating frequencies around
+        // the deck's own natural frequencies instead; the full-band estimate
+        // does not need resonances.
+        Err(e @ (UpdateError::NoResonances | UpdateError::NoUpdatingFrequencies { .. })) => {
+            let Some(freqs) = deck_frequencies(deck, test, opts.offset) else {
+                return Err(e);
+            };
+            let o = UpdateOptions {
+                frequencies_hz: Some(freqs),
+                ..opts.clone()
+            };
+            update_model(&mut |v| model::build(deck, v), test, &o, progress)?
+        }
+        r => r?,
+    };
     let (column, _) = crate::testdata::layout::as_column(test);
     let data = test_data(deck, &column)?;
     let np = result.parameter_names.len();
@@ -109,6 +125,36 @@ pub fn update_robust(
     result.estimate = Some(est);
     debug_assert_eq!(result.options.method, UpdateMethod::Robust);
     Ok(result)
+}
+
+/// (1 ± offset)·f_r for the deck's natural frequencies f_r inside the test's
+/// band (rigid-body modes left out), or `None` if there is none.
+fn deck_frequencies(deck: &Deck, test: &MeasuredFrfs, offset: f64) -> Option<Vec<f64>> {
+    let fe = model::build(deck, &ParameterValues::new()).ok()?;
+    let (lo, hi) = (
+        test.frequencies_hz.first().copied()?,
+        test.frequencies_hz.last().copied()?,
+    );
+    let modes = crate::solvers::eigen::lowest_modes(
+        &fe.stiffness,
+        &fe.mass,
+        &crate::solvers::eigen::EigenOptions {
+            count: 16.min(fe.dofs.len()),
+            expect_no_rigid_body_modes: fe.has_fixed_dofs,
+            ..Default::default()
+        },
+    )
+    .ok()?;
+    let mut f: Vec<f64> = modes
+        .frequencies_hz()
+        .into_iter()
+        .filter(|&x| x > 1e-3 * hi && x > lo)
+        .take(8)
+        .flat_map(|x| [(1.0 - offset) * x, (1.0 + offset) * x])
+        .filter(|&x| x > lo && x < hi)
+        .collect();
+    f.dedup();
+    (!f.is_empty()).then_some(f)
 }
 
 /// Where the full-band estimate may start: the deck, the first stage's

@@ -633,31 +633,43 @@ fn uncertainty_from(
     let total = r.len();
     let data_n = obj.data_rows(total);
     let mut h = DMatrix::<f64>::zeros(n, n);
-    let mut b = DMatrix::<f64>::zeros(n, n);
     let mut info = DMatrix::<f64>::zeros(n, n);
     let dof = (data_n as f64 - n as f64).max(1.0);
-    let correction = data_n as f64 / dof;
     let s2 = (r[..data_n].iter().map(|v| v * v).sum::<f64>() / dof).max(1e-300);
+    let row = |i: usize| -> Vec<f64> { idx.iter().map(|&k| jac[k][i]).collect() };
     for i in 0..total {
-        for (a, &ia) in idx.iter().enumerate() {
-            let ja = jac[ia][i];
-            if ja == 0.0 {
+        let ji = row(i);
+        for a in 0..n {
+            if ji[a] == 0.0 {
                 continue;
             }
-            for (c, &ic) in idx.iter().enumerate() {
-                let jc = jac[ic][i];
-                h[(a, c)] += ja * jc;
+            for c in 0..n {
+                h[(a, c)] += ji[a] * ji[c];
                 if i < data_n {
-                    b[(a, c)] += ja * jc * r[i] * r[i] * correction;
-                    info[(a, c)] += ja * jc;
-                } else {
-                    // A prior row: its expected r² under the prior is J₀.
-                    b[(a, c)] += ja * jc * j0;
+                    info[(a, c)] += ji[a] * ji[c];
                 }
             }
         }
     }
-    if let Some(hinv) = h.try_inverse() {
+    if let Some(hinv) = h.clone().try_inverse() {
+        // B: each data row's observed r², inflated by its leverage
+        // h_ii = J_i H⁻¹ J_iᵀ as 1/(1 − h_ii)² (HC3: a few lines at a sharp
+        // peak decide a frequency, and their residuals are shrunk by the fit);
+        // a prior row's expected r² under the prior is J₀.
+        let mut b = DMatrix::<f64>::zeros(n, n);
+        for i in 0..total {
+            let ji = nalgebra::DVector::from_vec(row(i));
+            if ji.iter().all(|&v| v == 0.0) {
+                continue;
+            }
+            let w = if i < data_n {
+                let lev = (ji.transpose() * &hinv * &ji)[(0, 0)].clamp(0.0, 0.99);
+                r[i] * r[i] / ((1.0 - lev) * (1.0 - lev))
+            } else {
+                j0
+            };
+            b += &ji * ji.transpose() * w;
+        }
         let cov = &hinv * b * &hinv;
         for (a, &ia) in idx.iter().enumerate() {
             if ia < np {

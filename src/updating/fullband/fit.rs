@@ -1,7 +1,8 @@
 //! Model FRFs at the measured channels and the fit of a few parameters.
 //!
 //! Prediction: modal superposition over the lowest modes (up to 2.5·ω_max)
-//! plus the static residual of the others, H_j(ω) = (iω)^k Σ_r φ_jr φ_ir / d_r(ω)
+//! plus the residual of the others to second order in ω (R0 + ω²R1),
+//! H_j(ω) = (iω)^k [Σ_r φ_jr φ_ir / d_r(ω) + R0 + ω²R1]
 //! with d_r = ω_r² − ω² + i·(damping term). Residual of a point (channel c,
 //! line l) above the noise floor: w_cl·ln(H_model/H_test), real part (log
 //! magnitude) and imaginary part (phase), with w_cl from [`TestData`].
@@ -65,6 +66,9 @@ pub struct ModalModel {
     pub coeff: Vec<Vec<f64>>,
     /// Static residual of the modes left out, per channel (m/N).
     pub residual: Vec<f64>,
+    /// Its first frequency correction R1 (m/N·s²): the modes left out add
+    /// R0 + ω² R1 ([`frf::static_residual_terms`]).
+    pub residual_mass: Vec<f64>,
     /// Lowest natural frequencies (Hz).
     pub frequencies_hz: Vec<f64>,
     /// Number of free DOFs of the model.
@@ -128,11 +132,11 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
         }
         count = (2 * count).min(n);
     };
-    let residual = if modes.len() < n {
-        frf::static_residual(&fe.stiffness, &fe.mass, &modes, input, &outputs)
+    let (residual, residual_mass) = if modes.len() < n {
+        frf::static_residual_terms(&fe.stiffness, &fe.mass, &modes, input, &outputs)
             .map_err(|e| DiagnoseError::Eigen(e.to_string()))?
     } else {
-        vec![0.0; outputs.len()]
+        (vec![0.0; outputs.len()], vec![0.0; outputs.len()])
     };
     let coeff = outputs
         .iter()
@@ -144,6 +148,11 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
         })
         .collect();
     let residual = residual.iter().zip(&signs).map(|(r, s)| r * s).collect();
+    let residual_mass = residual_mass
+        .iter()
+        .zip(&signs)
+        .map(|(r, s)| r * s)
+        .collect();
     Ok(ModalSolution {
         model: ModalModel {
             dofs: n,
@@ -151,6 +160,7 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
             omega2: modes.omega2.clone(),
             coeff,
             residual,
+            residual_mass,
         },
         modes,
         outputs,
@@ -209,7 +219,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
                 continue;
             }
             let a = &mm.coeff[c];
-            let mut h = res_factor * mm.residual[c];
+            let mut h = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
             for r in 0..nm {
                 h += inv_d[r] * a[r];
             }
