@@ -93,10 +93,17 @@ pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), Comman
 /// Load test data (FRF records of a UFF file) and report on stderr what was
 /// skipped or doubtful while reading them (see [`warn_notes`]).
 pub fn load_test(path: &std::path::Path) -> Result<crate::testdata::MeasuredFrfs, CommandError> {
+    load_test_with_notes(path).map(|(frfs, _)| frfs)
+}
+
+/// [`load_test`], also returning the notes (for the reports).
+pub fn load_test_with_notes(
+    path: &std::path::Path,
+) -> Result<(crate::testdata::MeasuredFrfs, Vec<String>), CommandError> {
     let loaded =
         crate::testdata::load_with_notes(path).map_err(|e| CommandError::input(e.to_string()))?;
     warn_notes(path, &loaded.notes)?;
-    Ok(loaded.frfs)
+    Ok((loaded.frfs, loaded.notes))
 }
 
 /// Read and parse a UFF file, streaming (bounded memory, parsing on all
