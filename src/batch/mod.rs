@@ -88,6 +88,26 @@ pub struct BatchSummary {
 }
 
 impl BatchSummary {
+    /// Cases with the status named `name` ("passed", "not-converged", …).
+    pub fn count(&self, name: &str) -> usize {
+        self.cases.iter().filter(|c| c.status.name() == name).count()
+    }
+
+    /// "4 case(s) run: 1 passed, 2 not converged, 1 threshold failed, 0 in error (3 failed)".
+    pub fn totals(&self) -> String {
+        let passed = self.count("passed");
+        format!(
+            "{} case(s) run: {} passed, {} not converged, {} threshold failed, {} in error ({} failed)",
+            self.cases.len(),
+            passed,
+            self.count("not-converged"),
+            self.count("threshold-failed"),
+            self.count("error"),
+            self.cases.len() - passed
+        )
+    }
+
+
     /// 2 if any case could not run, else 1 if any case did not converge or
     /// failed a threshold, else 0.
     pub fn exit_code(&self) -> i32 {
@@ -189,22 +209,37 @@ pub fn run(
         .iter()
         .filter(|c| opts.shard.is_none_or(|s| s.contains(c.index)))
         .collect();
-    std::fs::create_dir_all(&opts.out).map_err(|e| CommandError::output(&opts.out, e))?;
     let defaults = opts.thresholds.or(campaign.thresholds);
+    // The case folders and the summaries land together (`fsio::write_folder`).
+    crate::fsio::write_folder(&opts.out, |dir| -> Result<BatchSummary, CommandError> {
+        let cases = run_cases(&cases, dir, defaults, opts.jobs, on_done);
+        let summary = BatchSummary {
+            skipped_by_shard: campaign.cases.len() - cases.len(),
+            cases,
+        };
+        write_summaries(dir, &summary)?;
+        Ok(summary)
+    })
+}
+
+/// Run `cases` into `dir/NAME`, `jobs` at a time; summaries in campaign order.
+fn run_cases(
+    cases: &[&Case],
+    dir: &Path,
+    defaults: Thresholds,
+    jobs: usize,
+    on_done: &(dyn Fn(&CaseSummary, usize, usize) + Sync),
+) -> Vec<CaseSummary> {
     let results: Mutex<Vec<Option<CaseSummary>>> = Mutex::new(vec![None; cases.len()]);
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let jobs = opts.jobs.clamp(1, cases.len().max(1));
+    let jobs = jobs.clamp(1, cases.len().max(1));
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(case) = cases.get(i) else { break };
-                let summary = run_case(
-                    case,
-                    &opts.out.join(&case.name),
-                    case.thresholds.or(defaults),
-                );
+                let summary = run_case(case, &dir.join(&case.name), case.thresholds.or(defaults));
                 let n = done.fetch_add(1, Ordering::SeqCst) + 1;
                 on_done(&summary, n, cases.len());
                 if let Ok(mut r) = results.lock() {
@@ -213,18 +248,12 @@ pub fn run(
             });
         }
     });
-    let cases: Vec<CaseSummary> = results
+    results
         .into_inner()
         .unwrap_or_default()
         .into_iter()
         .flatten()
-        .collect();
-    let summary = BatchSummary {
-        skipped_by_shard: campaign.cases.len() - cases.len(),
-        cases,
-    };
-    write_summaries(&opts.out, &summary)?;
-    Ok(summary)
+        .collect()
 }
 
 fn opt(x: Option<f64>, digits: usize) -> String {
@@ -260,17 +289,10 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
     ));
 
     let mut md = String::from("# frfup batch summary\n\n");
-    let failed = s
-        .cases
-        .iter()
-        .filter(|c| c.status != CaseStatus::Passed)
-        .count();
     let _ = writeln!(
         md,
-        "{} case(s) run, {} passed, {} failed or in error{}.\n",
-        s.cases.len(),
-        s.cases.len() - failed,
-        failed,
+        "{}{}.\n",
+        s.totals(),
         if s.skipped_by_shard > 0 {
             format!(" ({} case(s) belong to other shards)", s.skipped_by_shard)
         } else {
@@ -298,6 +320,14 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
     }
     let json = json!({
         "exit_code": s.exit_code(),
+        "totals": {
+            "cases": s.cases.len(),
+            "passed": s.count("passed"),
+            "not_converged": s.count("not-converged"),
+            "threshold_failed": s.count("threshold-failed"),
+            "error": s.count("error"),
+            "failed": s.cases.len() - s.count("passed"),
+        },
         "skipped_by_shard": s.skipped_by_shard,
         "cases": s.cases.iter().map(|c| json!({
             "name": c.name,
