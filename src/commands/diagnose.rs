@@ -23,6 +23,7 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     super::check_model_for_modes(&cmd.deck, &deck)?;
     let test = super::load_test(&cmd.test)?;
     let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
+        let e = super::name_mechanism_equations(&e.to_string(), &deck);
         CommandError::input(format!(
             "{} with {}: {e}",
             cmd.deck.display(),

@@ -97,6 +97,7 @@ pub fn run_into(
     lap("read test data", &mut timings);
     let result =
         updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {
+            let e = super::name_mechanism_equations(&e.to_string(), &deck);
             CommandError::input(format!("{} with {}: {e}", shown.deck, shown.test))
         })?;
     lap("update", &mut timings);
