@@ -73,7 +73,7 @@ const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em au
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
 th{background:#f2f2f2}td.l,th.l{text-align:left}tr.sel td{background:#eef5ff;font-weight:bold}\
-.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #0064c8}\
+.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #888}\
 .status{padding:.7em 1em;margin:.8em 0;border:2px solid;border-radius:4px;font-size:1.05em}\
 .status b.word{font-size:1.25em;letter-spacing:.02em}.status.ok{background:#e6f4ea;border-color:#1e7e34;color:#0f4d1f}\
 .status.fail{background:#fdecea;border-color:#c62828;color:#7f1010}.status.amber{background:#fff4e0;border-color:#e08a00;color:#6b4100}\
@@ -252,22 +252,32 @@ fn status_box(s: &mut String, result: &UpdateResult) {
 fn estimate_section(s: &mut String, result: &UpdateResult, deck: &Deck) {
     use super::status;
     let Some(est) = &result.estimate else { return };
-    s.push_str("<h3 id=\"estimate\">Estimated parameters (full-band estimate)</h3>\n<table>\n<tr><th class=\"l\">parameter</th><th>p̄</th><th>± 1 sd</th><th class=\"l\">verdict</th><th class=\"l\">deck bounds / prior</th></tr>\n");
-    for r in status::estimate_rows(est, deck) {
-        row(
-            s,
-            &[
-                ("l", esc(&r.name)),
-                ("", esc(&r.value)),
-                ("", esc(&r.sd)),
-                ("l", esc(&r.verdict)),
-                ("l", esc(&r.prior)),
-            ],
-        );
+    let rows = status::estimate_rows(est, deck);
+    let priors = rows.iter().any(|r| !r.prior.is_empty());
+    let _ = writeln!(
+        s,
+        "<h3 id=\"estimate\">Estimated parameters (full-band estimate)</h3>\n<table>\n<tr><th class=\"l\">parameter</th><th>p̄</th><th>± 1 sd</th><th class=\"l\">verdict</th>{}</tr>",
+        if priors { "<th class=\"l\">deck bounds / prior</th>" } else { "" }
+    );
+    for r in rows {
+        let mut cells = vec![
+            ("l", esc(&r.name)),
+            ("", esc(&r.value)),
+            ("", esc(&r.sd)),
+            ("l", esc(&r.verdict)),
+        ];
+        if priors {
+            cells.push(("l", esc(&r.prior)));
+        }
+        row(s, &cells);
+    }
+    s.push_str("</table>\n");
+    if !priors {
+        s.push_str("<p class=\"muted\">The deck gives no bounds or priors (<code>param … min= max= sd=</code>): defaults apply.</p>\n");
     }
     let _ = writeln!(
         s,
-        "</table>\n<p>Misfit {}× the noise level; {}.</p>",
+        "<p>Misfit {}× the noise level; {}.</p>",
         fx(est.misfit, 2),
         esc(&status::damping_sentence(est))
     );
