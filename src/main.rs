@@ -564,7 +564,9 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 1 => {
                     let nc = summary.count("not-converged");
                     return Err(CommandError::threshold(if nc > 0 {
-                        format!("{nc} case(s) did not converge or a threshold failed (see the summary)")
+                        format!(
+                            "{nc} case(s) did not converge or a threshold failed (see the summary)"
+                        )
                     } else {
                         "a threshold failed (see the summary)".to_string()
                     }));

@@ -230,7 +230,10 @@ fn a_case_that_does_not_converge_is_its_own_failure() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
-    assert!(stdout.contains("1 case(s) run: 0 passed, 1 not converged"), "{stdout}");
+    assert!(
+        stdout.contains("1 case(s) run: 0 passed, 1 not converged"),
+        "{stdout}"
+    );
     assert!(stderr.contains("1 case(s) did not converge"), "{stderr}");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
@@ -242,5 +245,11 @@ fn a_case_that_does_not_converge_is_its_own_failure() {
     assert!(md.contains("| garteur | not-converged |"), "{md}");
     assert!(md.contains("0 passed, 1 not converged"), "{md}");
     let csv = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
-    assert!(csv.lines().nth(1).unwrap().starts_with("garteur,not-converged,false,"), "{csv}");
+    assert!(
+        csv.lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("garteur,not-converged,false,"),
+        "{csv}"
+    );
 }

@@ -732,7 +732,9 @@ fn a_missing_first_delimiter_is_named_as_such() {
     let o = run(&["info", &input]);
     let said = format!("{}{}", o.stdout, o.stderr);
     assert!(
-        said.contains("line 1 reads like a dataset number: a '    -1' delimiter seems missing before it"),
+        said.contains(
+            "line 1 reads like a dataset number: a '    -1' delimiter seems missing before it"
+        ),
         "{said}"
     );
 }
@@ -821,7 +823,9 @@ fn batch_and_demo_write_their_folders_whole() {
     // they must not be left alone in its folder.
     let demo = parent.join("demo");
     let code = interrupt_when(&["--quiet", "demo", "--out", p(&demo)], |pid| {
-        parent.join(format!(".demo.{pid}.tmp")).join("input/campaign.uff")
+        parent
+            .join(format!(".demo.{pid}.tmp"))
+            .join("input/campaign.uff")
     });
     assert_eq!(code, Some(130));
     assert!(!demo.exists(), "an interrupted demo left {demo:?}");

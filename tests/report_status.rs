@@ -18,7 +18,8 @@ fn root() -> PathBuf {
 }
 
 fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-report-status-{}-{name}", std::process::id()));
+    let dir =
+        std::env::temp_dir().join(format!("frfup-report-status-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -61,8 +62,14 @@ fn a_run_that_does_not_converge_has_a_red_status_that_says_why() {
     let o = frfup(&[
         "--quiet",
         "update",
-        root().join("fixtures/garteur/garteur.deck").to_str().unwrap(),
-        root().join("fixtures/garteur/campaign.uff").to_str().unwrap(),
+        root()
+            .join("fixtures/garteur/garteur.deck")
+            .to_str()
+            .unwrap(),
+        root()
+            .join("fixtures/garteur/campaign.uff")
+            .to_str()
+            .unwrap(),
         "--method",
         "paper",
         "--out",
@@ -73,13 +80,15 @@ fn a_run_that_does_not_converge_has_a_red_status_that_says_why() {
     let md = read(&out.join("report.md"));
     let status = md.lines().nth(2).unwrap();
     assert!(
-        status.starts_with("> **❌ Status: NOT CONVERGED — ")
-            && status.contains("SFDAC mean fell"),
+        status.starts_with("> **❌ Status: NOT CONVERGED — ") && status.contains("SFDAC mean fell"),
         "{md}"
     );
     assert!(!md.contains("✅"), "{md}");
     let html = read(&out.join("report.html"));
-    assert!(html.contains("<div class=\"status fail\""), "red box missing");
+    assert!(
+        html.contains("<div class=\"status fail\""),
+        "red box missing"
+    );
     assert!(html.contains("✘ Status: NOT CONVERGED — SFDAC mean fell"));
     assert!(!html.contains("status ok"), "a green box on a failed run");
     // the reason is the one the command prints
@@ -91,7 +100,14 @@ fn a_converged_run_has_a_green_status_and_its_estimate() {
     let dir = workdir("green");
     let (deck, uff) = cantilever(&dir);
     let out = dir.join("out");
-    let o = frfup(&["--quiet", "update", &deck, &uff, "--out", out.to_str().unwrap()]);
+    let o = frfup(&[
+        "--quiet",
+        "update",
+        &deck,
+        &uff,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     assert_eq!(
         o.status.code(),
         Some(0),
@@ -99,8 +115,15 @@ fn a_converged_run_has_a_green_status_and_its_estimate() {
         String::from_utf8_lossy(&o.stderr)
     );
     let md = read(&out.join("report.md"));
-    assert_eq!(md.lines().nth(2).unwrap(), "> **✅ Status: converged**", "{md}");
-    assert!(md.contains("> Layout: fixed exciter at 16+z, 15 response channel(s)."), "{md}");
+    assert_eq!(
+        md.lines().nth(2).unwrap(),
+        "> **✅ Status: converged**",
+        "{md}"
+    );
+    assert!(
+        md.contains("> Layout: fixed exciter at 16+z, 15 response channel(s)."),
+        "{md}"
+    );
     assert!(md.contains("## Estimated parameters"), "{md}");
     let p3 = md
         .lines()
@@ -143,9 +166,63 @@ fn the_readers_notes_on_the_inputs_reach_every_report() {
     );
     let note = "line 1: 1 line(s) outside any dataset ignored";
     let md = read(&out.join("report.md"));
-    assert!(md.contains(&format!("- input: {}: {note}", noted.display())), "{md}");
+    assert!(
+        md.contains(&format!("- input: {}: {note}", noted.display())),
+        "{md}"
+    );
     let html = read(&out.join("report.html"));
     assert!(html.contains("<h3>Input files</h3>") && html.contains(note));
     let json: serde_json::Value = serde_json::from_str(&read(&out.join("report.json"))).unwrap();
-    assert!(json["input_notes"][0].as_str().unwrap().ends_with(note), "{json}");
+    assert!(
+        json["input_notes"][0].as_str().unwrap().ends_with(note),
+        "{json}"
+    );
+}
+
+#[test]
+fn the_readers_notes_reach_the_batch_summary() {
+    let dir = workdir("batch-notes");
+    let (deck, uff) = cantilever(&dir);
+    let noted = dir.join("noted.uff");
+    std::fs::write(
+        &noted,
+        format!("exported by hand\n{}", read(Path::new(&uff))),
+    )
+    .unwrap();
+    let camp = dir.join("c.toml");
+    std::fs::write(
+        &camp,
+        format!(
+            "[[case]]\nname = \"noted\"\nmodel = \"{deck}\"\ntest = \"{}\"\nmethod = \"paper\"\n",
+            noted.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = frfup(&[
+        "--quiet",
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        o.status.code().unwrap() <= 1,
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let note = "line 1: 1 line(s) outside any dataset ignored";
+    let md = read(&out.join("summary.md"));
+    assert!(
+        md.contains("## Warnings on the inputs") && md.contains(note),
+        "{md}"
+    );
+    let json: serde_json::Value = serde_json::from_str(&read(&out.join("summary.json"))).unwrap();
+    assert!(
+        json["cases"][0]["input_notes"][0]
+            .as_str()
+            .unwrap()
+            .ends_with(note),
+        "{json}"
+    );
 }

@@ -77,6 +77,8 @@ pub struct CaseSummary {
     pub freq_error_before_pct: Option<f64>,
     pub freq_error_after_pct: Option<f64>,
     pub wall_time_s: f64,
+    /// What the readers noticed in the case's inputs (data skipped or doubtful).
+    pub input_notes: Vec<String>,
 }
 
 /// The outcome of a batch.
@@ -90,7 +92,10 @@ pub struct BatchSummary {
 impl BatchSummary {
     /// Cases with the status named `name` ("passed", "not-converged", …).
     pub fn count(&self, name: &str) -> usize {
-        self.cases.iter().filter(|c| c.status.name() == name).count()
+        self.cases
+            .iter()
+            .filter(|c| c.status.name() == name)
+            .count()
     }
 
     /// "4 case(s) run: 1 passed, 2 not converged, 1 threshold failed, 0 in error (3 failed)".
@@ -106,7 +111,6 @@ impl BatchSummary {
             self.cases.len() - passed
         )
     }
-
 
     /// 2 if any case could not run, else 1 if any case did not converge or
     /// failed a threshold, else 0.
@@ -153,6 +157,7 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
         freq_error_before_pct: None,
         freq_error_after_pct: None,
         wall_time_s,
+        input_notes: Vec::new(),
     };
     let outcome = match outcome {
         Ok(Ok(o)) => o,
@@ -185,6 +190,7 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
         freq_error_before_pct: outcome.freq_error_initial_pct,
         freq_error_after_pct: outcome.freq_error_updated_pct,
         wall_time_s,
+        input_notes: outcome.input_notes.clone(),
     }
 }
 
@@ -318,6 +324,19 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             c.status.detail().replace('|', "\\|").replace('\n', " ")
         );
     }
+    let noted: Vec<&CaseSummary> = s
+        .cases
+        .iter()
+        .filter(|c| !c.input_notes.is_empty())
+        .collect();
+    if !noted.is_empty() {
+        md.push_str("\n## Warnings on the inputs\n\n");
+        for c in noted {
+            for n in &c.input_notes {
+                let _ = writeln!(md, "- {}: {}", c.name, n.replace('\n', " "));
+            }
+        }
+    }
     let json = json!({
         "exit_code": s.exit_code(),
         "totals": {
@@ -342,6 +361,7 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             "freq_error_before_pct": c.freq_error_before_pct,
             "freq_error_after_pct": c.freq_error_after_pct,
             "wall_time_s": c.wall_time_s,
+            "input_notes": c.input_notes,
         })).collect::<Vec<_>>(),
     });
     let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";

@@ -57,8 +57,7 @@ pub fn run(
         std::fs::create_dir_all(&input).map_err(|e| CommandError::output(&input, e))?;
         let deck = input.join("garteur.deck");
         let test = input.join("campaign.uff");
-        write_atomic(&deck, GARTEUR_DECK.as_bytes())
-            .map_err(|e| CommandError::output(&deck, e))?;
+        write_atomic(&deck, GARTEUR_DECK.as_bytes()).map_err(|e| CommandError::output(&deck, e))?;
         write_atomic(&test, GARTEUR_CAMPAIGN).map_err(|e| CommandError::output(&test, e))?;
         let cmd = UpdateCommand {
             deck,

@@ -25,6 +25,8 @@ pub struct UpdateOutcome {
     pub files: Vec<PathBuf>,
     /// Wall time of each stage (name, seconds), for `--verbose`.
     pub timings: Vec<(&'static str, f64)>,
+    /// What the readers noticed in the inputs ("FILE: note"), as in the reports.
+    pub input_notes: Vec<String>,
 }
 
 /// Mean |f_FE − f_test| / f_test in % over the test resonances paired with an FE mode
@@ -113,7 +115,7 @@ pub fn run_into(
         test_path: shown.test.clone(),
         title: None,
         command: None,
-        input_notes: notes,
+        input_notes: notes.clone(),
     };
     crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
         CommandError::input(format!(
@@ -128,6 +130,7 @@ pub fn run_into(
         result,
         files: Vec::new(),
         timings,
+        input_notes: notes,
     })
 }
 
