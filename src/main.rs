@@ -576,21 +576,21 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             }
             let summary = result?;
             println!(
-                "{} case(s): {} passed; summary in {}",
-                summary.cases.len(),
-                summary
-                    .cases
-                    .iter()
-                    .filter(|c| c.status == frfup::batch::CaseStatus::Passed)
-                    .count(),
+                "{}; summary in {}",
+                summary.totals(),
                 out.join("summary.md").display()
             );
             match summary.exit_code() {
                 0 => {}
                 1 => {
-                    return Err(CommandError::threshold(
-                        "a threshold failed (see the summary)",
-                    ))
+                    let nc = summary.count("not-converged");
+                    return Err(CommandError::threshold(if nc > 0 {
+                        format!(
+                            "{nc} case(s) did not converge or a threshold failed (see the summary)"
+                        )
+                    } else {
+                        "a threshold failed (see the summary)".to_string()
+                    }));
                 }
                 _ => {
                     return Err(CommandError::input(

@@ -205,3 +205,51 @@ fn a_bad_campaign_file_names_file_and_line() {
         "{err}"
     );
 }
+
+#[test]
+fn a_case_that_does_not_converge_is_its_own_failure() {
+    let dir = workdir("not-converged");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The paper's iteration on the GARTEUR-like deck, far from its test: it
+    // stops on a falling SFDAC.
+    let toml = format!(
+        "[[case]]\nname = \"garteur\"\nmodel = \"{}\"\ntest = \"{}\"\nmethod = \"paper\"\n",
+        root.join("fixtures/garteur/garteur.deck").display(),
+        root.join("fixtures/garteur/campaign.uff").display()
+    );
+    let camp = dir.join("c.toml");
+    std::fs::write(&camp, toml).unwrap();
+    let out_dir = dir.join("out");
+    let out = frfup(&[
+        "--quiet",
+        "batch",
+        camp.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(
+        stdout.contains("1 case(s) run: 0 passed, 1 not converged"),
+        "{stdout}"
+    );
+    assert!(stderr.contains("1 case(s) did not converge"), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(summary["cases"][0]["status"], "not-converged");
+    assert_eq!(summary["totals"]["not_converged"], 1);
+    assert_eq!(summary["totals"]["failed"], 1);
+    let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
+    assert!(md.contains("| garteur | not-converged |"), "{md}");
+    assert!(md.contains("0 passed, 1 not converged"), "{md}");
+    let csv = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("garteur,not-converged,false,"),
+        "{csv}"
+    );
+}

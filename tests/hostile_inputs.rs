@@ -725,3 +725,113 @@ fn ctrl_c_while_writing_leaves_no_temporary_file() {
     assert!(!tmp.exists(), "{tmp:?} was left behind");
     assert!(!out.exists());
 }
+
+#[test]
+fn a_missing_first_delimiter_is_named_as_such() {
+    let input = missing_first_delimiter();
+    let o = run(&["info", &input]);
+    let said = format!("{}{}", o.stdout, o.stderr);
+    assert!(
+        said.contains(
+            "line 1 reads like a dataset number: a '    -1' delimiter seems missing before it"
+        ),
+        "{said}"
+    );
+}
+
+#[test]
+fn a_mechanism_inside_update_names_its_nodes_and_dofs() {
+    // The joint's deck with a parameter gives a campaign; without the torsion
+    // spring the same deck is a mechanism, found by the update's eigen solve.
+    let with_param = format!("{JOINT}param p1 Iy 2-4\n");
+    let deck = write("joint_param.deck", with_param.as_bytes());
+    let uff = tmp_dir().join("joint.uff");
+    let o = run(&[
+        "simulate",
+        &deck,
+        "--input",
+        "6:+z",
+        "--band",
+        "0:100:201",
+        "--out",
+        p(&uff),
+    ]);
+    assert_eq!(o.code, 0, "{}", o.stderr);
+    let text: String = with_param
+        .lines()
+        .filter(|l| !l.starts_with("spring 4"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let mech = write("mechanism_param.deck", text.as_bytes());
+    for cmd in ["update", "diagnose"] {
+        let out = tmp_dir().join(format!("mech-{cmd}"));
+        let o = run(&[cmd, &mech, p(&uff), "--out", p(&out)]);
+        refused(&o, &["mechanism", "node 3 rx"]);
+        assert!(!o.stderr.contains("equation"), "{cmd}: {}", o.stderr);
+    }
+}
+
+/// Start `args`, wait until the path `appears(child's pid)` exists, send
+/// SIGINT; returns the exit code.
+fn interrupt_when(args: &[&str], appears: impl Fn(u32) -> PathBuf) -> Option<i32> {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_frfup"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let appears = appears(child.id());
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_secs(120) && !appears.exists() {
+        if child.try_wait().unwrap().is_some() {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    assert!(appears.exists(), "{appears:?} never appeared");
+    let _ = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    child.wait().unwrap().code()
+}
+
+#[test]
+fn batch_and_demo_write_their_folders_whole() {
+    let parent = tmp_dir().join("whole-batch");
+    let _ = std::fs::remove_dir_all(&parent);
+    std::fs::create_dir_all(&parent).unwrap();
+    let campaign = parent.join("c.toml");
+    std::fs::write(
+        &campaign,
+        format!(
+            "[[case]]\nname = \"g\"\nmodel = \"{}\"\ntest = \"{}\"\n",
+            fixture("fixtures/garteur/garteur_suspended.deck"),
+            fixture("fixtures/garteur/campaign.uff")
+        ),
+    )
+    .unwrap();
+    // Interrupted once its first case is being written: nothing of it lands.
+    let out = parent.join("batch");
+    let code = interrupt_when(
+        &["--quiet", "batch", p(&campaign), "--out", p(&out)],
+        |pid| parent.join(format!(".batch.{pid}.tmp")),
+    );
+    assert_eq!(code, Some(130));
+    assert!(!out.exists(), "an interrupted batch left {out:?}");
+    // The demo's inputs are written first: interrupted during the update,
+    // they must not be left alone in its folder.
+    let demo = parent.join("demo");
+    let code = interrupt_when(&["--quiet", "demo", "--out", p(&demo)], |pid| {
+        parent
+            .join(format!(".demo.{pid}.tmp"))
+            .join("input/campaign.uff")
+    });
+    assert_eq!(code, Some(130));
+    assert!(!demo.exists(), "an interrupted demo left {demo:?}");
+    let names: Vec<String> = std::fs::read_dir(&parent)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, vec!["c.toml".to_string()], "temporaries were left");
+}

@@ -76,6 +76,7 @@ fn inputs() -> ReportInputs {
         test_path: "simulated (p3 = +1, 0.05 % noise)".into(),
         title: None,
         command: Some("frfup update fixtures/paper/cantilever.deck test.uff --out report".into()),
+        input_notes: Vec::new(),
     }
 }
 
@@ -237,6 +238,7 @@ fn garteur_report() {
         test_path: "fixtures/garteur/campaign.uff".into(),
         title: None,
         command: None,
+        input_notes: Vec::new(),
     };
     let files = write_report(&dir, &result, &deck, &test, &inputs).unwrap();
     if rsvg_available() {

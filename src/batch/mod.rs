@@ -77,6 +77,8 @@ pub struct CaseSummary {
     pub freq_error_before_pct: Option<f64>,
     pub freq_error_after_pct: Option<f64>,
     pub wall_time_s: f64,
+    /// What the readers noticed in the case's inputs (data skipped or doubtful).
+    pub input_notes: Vec<String>,
 }
 
 /// The outcome of a batch.
@@ -88,6 +90,28 @@ pub struct BatchSummary {
 }
 
 impl BatchSummary {
+    /// Cases with the status named `name` ("passed", "not-converged", …).
+    pub fn count(&self, name: &str) -> usize {
+        self.cases
+            .iter()
+            .filter(|c| c.status.name() == name)
+            .count()
+    }
+
+    /// "4 case(s) run: 1 passed, 2 not converged, 1 threshold failed, 0 in error (3 failed)".
+    pub fn totals(&self) -> String {
+        let passed = self.count("passed");
+        format!(
+            "{} case(s) run: {} passed, {} not converged, {} threshold failed, {} in error ({} failed)",
+            self.cases.len(),
+            passed,
+            self.count("not-converged"),
+            self.count("threshold-failed"),
+            self.count("error"),
+            self.cases.len() - passed
+        )
+    }
+
     /// 2 if any case could not run, else 1 if any case did not converge or
     /// failed a threshold, else 0.
     pub fn exit_code(&self) -> i32 {
@@ -133,6 +157,7 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
         freq_error_before_pct: None,
         freq_error_after_pct: None,
         wall_time_s,
+        input_notes: Vec::new(),
     };
     let outcome = match outcome {
         Ok(Ok(o)) => o,
@@ -165,6 +190,7 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
         freq_error_before_pct: outcome.freq_error_initial_pct,
         freq_error_after_pct: outcome.freq_error_updated_pct,
         wall_time_s,
+        input_notes: outcome.input_notes.clone(),
     }
 }
 
@@ -189,22 +215,37 @@ pub fn run(
         .iter()
         .filter(|c| opts.shard.is_none_or(|s| s.contains(c.index)))
         .collect();
-    std::fs::create_dir_all(&opts.out).map_err(|e| CommandError::output(&opts.out, e))?;
     let defaults = opts.thresholds.or(campaign.thresholds);
+    // The case folders and the summaries land together (`fsio::write_folder`).
+    crate::fsio::write_folder(&opts.out, |dir| -> Result<BatchSummary, CommandError> {
+        let cases = run_cases(&cases, dir, defaults, opts.jobs, on_done);
+        let summary = BatchSummary {
+            skipped_by_shard: campaign.cases.len() - cases.len(),
+            cases,
+        };
+        write_summaries(dir, &summary)?;
+        Ok(summary)
+    })
+}
+
+/// Run `cases` into `dir/NAME`, `jobs` at a time; summaries in campaign order.
+fn run_cases(
+    cases: &[&Case],
+    dir: &Path,
+    defaults: Thresholds,
+    jobs: usize,
+    on_done: &(dyn Fn(&CaseSummary, usize, usize) + Sync),
+) -> Vec<CaseSummary> {
     let results: Mutex<Vec<Option<CaseSummary>>> = Mutex::new(vec![None; cases.len()]);
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let jobs = opts.jobs.clamp(1, cases.len().max(1));
+    let jobs = jobs.clamp(1, cases.len().max(1));
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(case) = cases.get(i) else { break };
-                let summary = run_case(
-                    case,
-                    &opts.out.join(&case.name),
-                    case.thresholds.or(defaults),
-                );
+                let summary = run_case(case, &dir.join(&case.name), case.thresholds.or(defaults));
                 let n = done.fetch_add(1, Ordering::SeqCst) + 1;
                 on_done(&summary, n, cases.len());
                 if let Ok(mut r) = results.lock() {
@@ -213,18 +254,12 @@ pub fn run(
             });
         }
     });
-    let cases: Vec<CaseSummary> = results
+    results
         .into_inner()
         .unwrap_or_default()
         .into_iter()
         .flatten()
-        .collect();
-    let summary = BatchSummary {
-        skipped_by_shard: campaign.cases.len() - cases.len(),
-        cases,
-    };
-    write_summaries(&opts.out, &summary)?;
-    Ok(summary)
+        .collect()
 }
 
 fn opt(x: Option<f64>, digits: usize) -> String {
@@ -260,17 +295,10 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
     ));
 
     let mut md = String::from("# frfup batch summary\n\n");
-    let failed = s
-        .cases
-        .iter()
-        .filter(|c| c.status != CaseStatus::Passed)
-        .count();
     let _ = writeln!(
         md,
-        "{} case(s) run, {} passed, {} failed or in error{}.\n",
-        s.cases.len(),
-        s.cases.len() - failed,
-        failed,
+        "{}{}.\n",
+        s.totals(),
         if s.skipped_by_shard > 0 {
             format!(" ({} case(s) belong to other shards)", s.skipped_by_shard)
         } else {
@@ -296,8 +324,29 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             c.status.detail().replace('|', "\\|").replace('\n', " ")
         );
     }
+    let noted: Vec<&CaseSummary> = s
+        .cases
+        .iter()
+        .filter(|c| !c.input_notes.is_empty())
+        .collect();
+    if !noted.is_empty() {
+        md.push_str("\n## Warnings on the inputs\n\n");
+        for c in noted {
+            for n in &c.input_notes {
+                let _ = writeln!(md, "- {}: {}", c.name, n.replace('\n', " "));
+            }
+        }
+    }
     let json = json!({
         "exit_code": s.exit_code(),
+        "totals": {
+            "cases": s.cases.len(),
+            "passed": s.count("passed"),
+            "not_converged": s.count("not-converged"),
+            "threshold_failed": s.count("threshold-failed"),
+            "error": s.count("error"),
+            "failed": s.cases.len() - s.count("passed"),
+        },
         "skipped_by_shard": s.skipped_by_shard,
         "cases": s.cases.iter().map(|c| json!({
             "name": c.name,
@@ -312,6 +361,7 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             "freq_error_before_pct": c.freq_error_before_pct,
             "freq_error_after_pct": c.freq_error_after_pct,
             "wall_time_s": c.wall_time_s,
+            "input_notes": c.input_notes,
         })).collect::<Vec<_>>(),
     });
     let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";

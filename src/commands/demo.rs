@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::update::{run as run_update, UpdateCommand, UpdateOutcome};
+use super::update::{run_into, Shown, UpdateCommand, UpdateOutcome};
 use super::CommandError;
-use crate::fsio::write_atomic;
+use crate::fsio::{write_atomic, write_folder};
 use crate::updating::UpdateOptions;
 
 /// The analyst's deck of the GARTEUR-like test bed with its known bungee
@@ -23,25 +23,47 @@ pub fn demo_options() -> UpdateOptions {
 }
 
 /// Run the demo into `out`: writes `input/garteur.deck`, `input/campaign.uff`
-/// and the update's files.
+/// and the update's files, as a whole (`fsio::write_folder`): the inputs and
+/// the results land together or not at all. The reports name the inputs by
+/// their final paths in `out`.
 pub fn run(
     out: &Path,
     progress: &mut dyn FnMut(&crate::updating::IterationRecord),
 ) -> Result<(UpdateOutcome, PathBuf), CommandError> {
-    let input = out.join("input");
-    std::fs::create_dir_all(&input).map_err(|e| CommandError::output(&input, e))?;
-    let deck = input.join("garteur.deck");
-    let test = input.join("campaign.uff");
-    write_atomic(&deck, GARTEUR_DECK.as_bytes()).map_err(|e| CommandError::output(&deck, e))?;
-    write_atomic(&test, GARTEUR_CAMPAIGN).map_err(|e| CommandError::output(&test, e))?;
-    let outcome = run_update(
-        &UpdateCommand {
+    crate::fsio::check_out_folder(out).map_err(CommandError::input)?;
+    let shown = Shown {
+        deck: out.join("input").join("garteur.deck").display().to_string(),
+        test: out.join("input").join("campaign.uff").display().to_string(),
+    };
+    let mut outcome = write_folder(out, |dir| {
+        let input = dir.join("input");
+        std::fs::create_dir_all(&input).map_err(|e| CommandError::output(&input, e))?;
+        let deck = input.join("garteur.deck");
+        let test = input.join("campaign.uff");
+        write_atomic(&deck, GARTEUR_DECK.as_bytes()).map_err(|e| CommandError::output(&deck, e))?;
+        write_atomic(&test, GARTEUR_CAMPAIGN).map_err(|e| CommandError::output(&test, e))?;
+        let cmd = UpdateCommand {
             deck,
             test,
             out: out.to_path_buf(),
             options: demo_options(),
-        },
-        progress,
-    )?;
+        };
+        run_into(&cmd, dir, &shown, progress)
+    })?;
+    outcome.files = list_files(out);
     Ok((outcome, out.join("report.md")))
+}
+
+/// The files directly in `dir`, sorted.
+fn list_files(dir: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.path())
+                .filter(|p| p.is_file())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
 }

@@ -21,8 +21,13 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
     super::check_model_for_modes(&cmd.deck, &deck)?;
-    let test = super::load_test(&cmd.test)?;
+    let (test, notes) = super::load_test_with_notes(&cmd.test)?;
+    let notes: Vec<String> = notes
+        .iter()
+        .map(|n| format!("{}: {n}", cmd.test.display()))
+        .collect();
     let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
+        let e = super::name_mechanism_equations(&e.to_string(), &deck);
         CommandError::input(format!(
             "{} with {}: {e}",
             cmd.deck.display(),
@@ -30,13 +35,14 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
         ))
     })?;
     crate::fsio::write_folder(&cmd.out, |dir| {
-        diagnosis::write_outputs(
+        diagnosis::write_outputs_with_notes(
             &d,
             &deck,
             &test,
             dir,
             &cmd.deck.display().to_string(),
             &cmd.test.display().to_string(),
+            &notes,
         )
     })
     .map_err(|e| CommandError::output(&cmd.out, e))?;

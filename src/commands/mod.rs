@@ -93,10 +93,17 @@ pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), Comman
 /// Load test data (FRF records of a UFF file) and report on stderr what was
 /// skipped or doubtful while reading them (see [`warn_notes`]).
 pub fn load_test(path: &std::path::Path) -> Result<crate::testdata::MeasuredFrfs, CommandError> {
+    load_test_with_notes(path).map(|(frfs, _)| frfs)
+}
+
+/// [`load_test`], also returning the notes (for the reports).
+pub fn load_test_with_notes(
+    path: &std::path::Path,
+) -> Result<(crate::testdata::MeasuredFrfs, Vec<String>), CommandError> {
     let loaded =
         crate::testdata::load_with_notes(path).map_err(|e| CommandError::input(e.to_string()))?;
     warn_notes(path, &loaded.notes)?;
-    Ok(loaded.frfs)
+    Ok((loaded.frfs, loaded.notes))
 }
 
 /// Read and parse a UFF file, streaming (bounded memory, parsing on all
@@ -185,11 +192,7 @@ pub fn eigen_error(
     use crate::solvers::eigen::EigenError;
     match e {
         EigenError::Mechanisms { count, equations } => {
-            let names: Vec<String> = equations
-                .iter()
-                .filter_map(|&i| fe.dofs.equations.get(i))
-                .map(|(node, dof)| format!("node {node} {}", dof.name()))
-                .collect();
+            let names = fe.dofs.labels(&equations);
             CommandError::input(format!(
                 "{}: the model has fixed DOFs but {count} mechanism(s) (zero-energy modes) moving {}: check fix, springs and element connectivity there",
                 path.display(),
@@ -198,4 +201,36 @@ pub fn eigen_error(
         }
         e => CommandError::input(format!("{}: {e}", path.display())),
     }
+}
+
+/// The words of an eigen solver's mechanism error ("... moving equation(s)
+/// 3, 4: ...") with the equations named as node and DOF of `deck`'s model
+/// (equation numbers do not depend on parameter values). Any other message,
+/// or a deck that does not build, is returned as it is.
+pub fn name_mechanism_equations(message: &str, deck: &frfup_parsers::deck::Deck) -> String {
+    const KEY: &str = "moving equation(s) ";
+    let Some(at) = message.find(KEY) else {
+        return message.to_string();
+    };
+    let start = at + KEY.len();
+    let end = message[start..]
+        .find(|c: char| !(c.is_ascii_digit() || c == ',' || c == ' '))
+        .map_or(message.len(), |e| start + e);
+    let equations: Vec<usize> = message[start..end]
+        .split(',')
+        .filter_map(|t| t.trim().parse().ok())
+        .collect();
+    let Ok(fe) = crate::model::build(deck, &Default::default()) else {
+        return message.to_string();
+    };
+    let names = fe.dofs.labels(&equations);
+    if names.len() != equations.len() || names.is_empty() {
+        return message.to_string();
+    }
+    format!(
+        "{}moving {}{}",
+        &message[..at],
+        names.join(", "),
+        &message[end..]
+    )
 }

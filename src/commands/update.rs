@@ -25,6 +25,8 @@ pub struct UpdateOutcome {
     pub files: Vec<PathBuf>,
     /// Wall time of each stage (name, seconds), for `--verbose`.
     pub timings: Vec<(&'static str, f64)>,
+    /// What the readers noticed in the inputs ("FILE: note"), as in the reports.
+    pub input_notes: Vec<String>,
 }
 
 /// Mean |f_FE − f_test| / f_test in % over the test resonances paired with an FE mode
@@ -42,9 +44,46 @@ pub fn mean_frequency_error_pct(result: &UpdateResult, record: usize) -> Option<
     (n > 0).then(|| 100.0 * sum / n as f64)
 }
 
-/// Run an update and write its files into `out`.
+/// Run an update and write its files into `out`, as a whole
+/// (`fsio::write_folder`): `out` is checked first, the files land together
+/// or not at all.
 pub fn run(
     cmd: &UpdateCommand,
+    progress: &mut dyn FnMut(&updating::IterationRecord),
+) -> Result<UpdateOutcome, CommandError> {
+    crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
+    let shown = Shown::of(cmd);
+    let mut outcome =
+        crate::fsio::write_folder(&cmd.out, |dir| run_into(cmd, dir, &shown, progress))?;
+    outcome.files = list_files(&cmd.out);
+    Ok(outcome)
+}
+
+/// How the inputs are named in messages and reports (the paths the user
+/// knows, which may differ from where they are read, as in `demo`).
+#[derive(Clone, Debug)]
+pub struct Shown {
+    pub deck: String,
+    pub test: String,
+}
+
+impl Shown {
+    /// The command's own paths.
+    pub fn of(cmd: &UpdateCommand) -> Shown {
+        Shown {
+            deck: cmd.deck.display().to_string(),
+            test: cmd.test.display().to_string(),
+        }
+    }
+}
+
+/// Run an update and write its files straight into `dir` (no check of
+/// `cmd.out`, no whole-folder write: the caller's `fsio::write_folder` does
+/// that). `outcome.files` is left empty.
+pub fn run_into(
+    cmd: &UpdateCommand,
+    dir: &Path,
+    shown: &Shown,
     progress: &mut dyn FnMut(&updating::IterationRecord),
 ) -> Result<UpdateOutcome, CommandError> {
     let mut timings = Vec::new();
@@ -53,48 +92,45 @@ pub fn run(
         timings.push((name, clock.elapsed().as_secs_f64()));
         clock = std::time::Instant::now();
     };
-    crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
     super::check_model_for_modes(&cmd.deck, &deck)?;
     lap("read deck", &mut timings);
-    let test = super::load_test(&cmd.test)?;
+    let (test, notes) = super::load_test_with_notes(&cmd.test)?;
     lap("read test data", &mut timings);
     let result =
         updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {
-            CommandError::input(format!(
-                "{} with {}: {e}",
-                cmd.deck.display(),
-                cmd.test.display()
-            ))
+            let e = super::name_mechanism_equations(&e.to_string(), &deck);
+            CommandError::input(format!("{} with {}: {e}", shown.deck, shown.test))
         })?;
     lap("update", &mut timings);
-    // Tables, deck and report land together or not at all (`fsio::write_folder`).
-    crate::fsio::write_folder(&cmd.out, |dir| -> Result<(), CommandError> {
-        updating::write_outputs(&result, &deck, dir)
-            .map_err(|e| CommandError::output(&cmd.out, e))?;
-        lap("write tables and updated deck", &mut timings);
-        let inputs = crate::report::ReportInputs {
-            deck_path: cmd.deck.display().to_string(),
-            test_path: cmd.test.display().to_string(),
-            title: None,
-            command: None,
-        };
-        crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
-            CommandError::input(format!(
-                "writing the report into {}: {e}",
-                cmd.out.display()
-            ))
-        })?;
-        lap("write charts and report", &mut timings);
-        Ok(())
+    let notes: Vec<String> = notes
+        .iter()
+        .map(|n| format!("{}: {n}", shown.test))
+        .collect();
+    updating::write_outputs_with_notes(&result, &deck, dir, &notes)
+        .map_err(|e| CommandError::output(&cmd.out, e))?;
+    lap("write tables and updated deck", &mut timings);
+    let inputs = crate::report::ReportInputs {
+        deck_path: shown.deck.clone(),
+        test_path: shown.test.clone(),
+        title: None,
+        command: None,
+        input_notes: notes.clone(),
+    };
+    crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
+        CommandError::input(format!(
+            "writing the report into {}: {e}",
+            cmd.out.display()
+        ))
     })?;
-    let files = list_files(&cmd.out);
+    lap("write charts and report", &mut timings);
     Ok(UpdateOutcome {
         freq_error_initial_pct: mean_frequency_error_pct(&result, 0),
         freq_error_updated_pct: mean_frequency_error_pct(&result, result.final_iteration),
         result,
-        files,
+        files: Vec::new(),
         timings,
+        input_notes: notes,
     })
 }
 

@@ -30,7 +30,7 @@ use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
 use select::{Engine, HypFit};
 
 pub use crate::updating::fullband::{data, fit};
-pub use output::write_outputs;
+pub use output::{write_outputs, write_outputs_with_notes};
 
 /// Settings of a diagnosis.
 #[derive(Clone, Debug)]

@@ -225,7 +225,45 @@ pub fn write_outputs(
     deck_name: &str,
     test_name: &str,
 ) -> std::io::Result<()> {
-    let json = serde_json::to_string_pretty(&diagnosis_json(d)).map_err(std::io::Error::other)?;
+    write_outputs_with_notes(d, deck, test, dir, deck_name, test_name, &[])
+}
+
+/// The readers' notes on the inputs, as a Warnings section of `report.md`
+/// and of the page (placed before its end).
+fn notes_sections(notes: &[String]) -> (String, String) {
+    if notes.is_empty() {
+        return (String::new(), String::new());
+    }
+    let mut md = String::from("\n## Warnings\n\n");
+    let mut html = String::from(
+        "<h2 id=\"input-warnings\">Warnings</h2>\n<h3>Input files</h3>\n<ul class=\"warn\">\n",
+    );
+    for n in notes {
+        md.push_str(&format!("- input: {}\n", n.replace('\n', " ")));
+        html.push_str(&format!("<li>{}</li>\n", crate::report::html::esc(n)));
+    }
+    html.push_str("</ul>\n");
+    (md, html)
+}
+
+/// [`write_outputs`], with what the readers noticed in the inputs (data
+/// skipped or doubtful) in `diagnosis.json` (`input_notes`), `report.md` and
+/// `report.html`.
+pub fn write_outputs_with_notes(
+    d: &Diagnosis,
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    dir: &Path,
+    deck_name: &str,
+    test_name: &str,
+    notes: &[String],
+) -> std::io::Result<()> {
+    let mut json = diagnosis_json(d);
+    if let Some(o) = json.as_object_mut() {
+        o.insert("input_notes".into(), serde_json::json!(notes));
+    }
+    let json = serde_json::to_string_pretty(&json).map_err(std::io::Error::other)?;
+    let (notes_md, notes_html) = notes_sections(notes);
     let mut deck_text = String::from(
         "# written by frfup diagnose: the updated deck with the accepted extensions\n",
     );
@@ -235,13 +273,18 @@ pub fn write_outputs(
         ("diagnosed.deck".into(), deck_text.into_bytes()),
         (
             "report.md".into(),
-            report_md(d, deck_name, test_name).into_bytes(),
+            (report_md(d, deck_name, test_name) + &notes_md).into_bytes(),
         ),
     ];
-    files.extend(
-        crate::report::diagnosis::render_files(d, deck, test, deck_name, test_name)
-            .map_err(std::io::Error::other)?,
-    );
+    let mut rendered = crate::report::diagnosis::render_files(d, deck, test, deck_name, test_name)
+        .map_err(std::io::Error::other)?;
+    if let Some((_, page)) = rendered.iter_mut().find(|(n, _)| n == "report.html") {
+        let text = String::from_utf8_lossy(page).into_owned();
+        if let Some(at) = text.rfind("</body>") {
+            *page = format!("{}{notes_html}{}", &text[..at], &text[at..]).into_bytes();
+        }
+    }
+    files.extend(rendered);
     let frf_dir = dir.join(crate::report::FRF_DIR);
     std::fs::create_dir_all(&frf_dir)?;
     let mut written = Vec::with_capacity(files.len());

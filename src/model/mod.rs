@@ -166,6 +166,15 @@ pub struct DofMap {
 }
 
 impl DofMap {
+    /// "node N dof" of each equation (0-based) that exists, in order.
+    pub fn labels(&self, equations: &[usize]) -> Vec<String> {
+        equations
+            .iter()
+            .filter_map(|&i| self.equations.get(i))
+            .map(|(node, dof)| format!("node {node} {}", dof.name()))
+            .collect()
+    }
+
     /// CONTRACT. Equation index of a free DOF; `None` if fixed or absent.
     pub fn index(&self, node: u32, dof: Dof) -> Option<usize> {
         self.lookup.get(&(node, dof)).copied()

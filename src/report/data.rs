@@ -43,6 +43,9 @@ pub struct ReportInputs {
     pub title: Option<String>,
     /// The command line, recorded in the report.
     pub command: Option<String>,
+    /// What the readers noticed in the inputs (data skipped or doubtful),
+    /// shown under Warnings.
+    pub input_notes: Vec<String>,
 }
 
 /// One model (initial or updated) evaluated for the report.

@@ -73,7 +73,10 @@ const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em au
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
 table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
 th{background:#f2f2f2}td.l,th.l{text-align:left}tr.sel td{background:#eef5ff;font-weight:bold}\
-.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #0064c8}\
+.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #888}\
+.status{padding:.7em 1em;margin:.8em 0;border:2px solid;border-radius:4px;font-size:1.05em}\
+.status b.word{font-size:1.25em;letter-spacing:.02em}.status.ok{background:#e6f4ea;border-color:#1e7e34;color:#0f4d1f}\
+.status.fail{background:#fdecea;border-color:#c62828;color:#7f1010}.status.amber{background:#fff4e0;border-color:#e08a00;color:#6b4100}\
 .warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em}";
 
 fn row(s: &mut String, cells: &[(&str, String)]) {
@@ -142,6 +145,7 @@ pub fn report_html(
         esc(&inputs.deck_path),
         esc(&inputs.test_path)
     );
+    status_box(&mut s, result);
     summary(&mut s, result);
     nav(&mut s);
 
@@ -155,6 +159,7 @@ pub fn report_html(
     let _ = writeln!(s, "<h2 id=\"convergence\">Convergence</h2>");
     chart(&mut s, &charts.convergence);
     parameters_table(&mut s, result);
+    estimate_section(&mut s, result, deck);
 
     let _ = writeln!(s, "<h2 id=\"sfdac\">SFDAC before and after</h2>");
     chart(&mut s, &charts.sfdac);
@@ -175,7 +180,7 @@ pub fn report_html(
     frf_charts(&mut s, &charts.frf_sheet, &charts.frf_channels);
 
     let _ = writeln!(s, "<h2 id=\"warnings\">Warnings</h2>");
-    warnings(&mut s, result, data);
+    warnings(&mut s, result, data, &inputs.input_notes);
 
     let _ = writeln!(s, "<h2 id=\"files\">Files</h2>\n<ul>");
     for f in files {
@@ -214,6 +219,76 @@ fn summary(s: &mut String, result: &UpdateResult) {
         dev(false),
         dev(true)
     );
+}
+
+/// The status box: green "converged" only when the run converged, red
+/// "NOT CONVERGED — why" otherwise; an amber note when the estimate's misfit
+/// says the deck's parameters do not explain the test. Colour is never the
+/// only signal: the words say the same.
+fn status_box(s: &mut String, result: &UpdateResult) {
+    let st = super::status::status(result);
+    let (class, mark) = if st.converged {
+        ("ok", "✔")
+    } else {
+        ("fail", "✘")
+    };
+    let _ = writeln!(
+        s,
+        "<div class=\"status {class}\" role=\"status\"><b class=\"word\">{mark} Status: {}</b><br>Layout: {}.</div>",
+        esc(&st.headline),
+        esc(&result.layout.to_string())
+    );
+    if let Some(note) = &st.misfit_note {
+        let _ = writeln!(
+            s,
+            "<div class=\"status amber\"><b>⚠ Note:</b> {}</div>",
+            esc(note).replace("`frfup diagnose`", "<code>frfup diagnose</code>")
+        );
+    }
+}
+
+/// The full-band estimate: each parameter with ± 1 sd and its verdict, the
+/// damping identified along and the directions the data do not determine.
+fn estimate_section(s: &mut String, result: &UpdateResult, deck: &Deck) {
+    use super::status;
+    let Some(est) = &result.estimate else { return };
+    let rows = status::estimate_rows(est, deck);
+    let priors = rows.iter().any(|r| !r.prior.is_empty());
+    let _ = writeln!(
+        s,
+        "<h3 id=\"estimate\">Estimated parameters (full-band estimate)</h3>\n<table>\n<tr><th class=\"l\">parameter</th><th>p̄</th><th>± 1 sd</th><th class=\"l\">verdict</th>{}</tr>",
+        if priors { "<th class=\"l\">deck bounds / prior</th>" } else { "" }
+    );
+    for r in rows {
+        let mut cells = vec![
+            ("l", esc(&r.name)),
+            ("", esc(&r.value)),
+            ("", esc(&r.sd)),
+            ("l", esc(&r.verdict)),
+        ];
+        if priors {
+            cells.push(("l", esc(&r.prior)));
+        }
+        row(s, &cells);
+    }
+    s.push_str("</table>\n");
+    if !priors {
+        s.push_str("<p class=\"muted\">The deck gives no bounds or priors (<code>param … min= max= sd=</code>): defaults apply.</p>\n");
+    }
+    let _ = writeln!(
+        s,
+        "<p>Misfit {}× the noise level; {}.</p>",
+        fx(est.misfit, 2),
+        esc(&status::damping_sentence(est))
+    );
+    let unseen = status::unseen_directions(est);
+    if !unseen.is_empty() {
+        s.push_str("<p>Directions in parameter space these data do not determine:</p>\n<ul>\n");
+        for d in unseen {
+            let _ = writeln!(s, "<li>{}</li>", esc(&d));
+        }
+        s.push_str("</ul>\n");
+    }
 }
 
 fn nav(s: &mut String) {
@@ -596,7 +671,7 @@ fn group(w: &UpdateWarning) -> &'static str {
     }
 }
 
-fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData) {
+fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData, input_notes: &[String]) {
     const GROUPS: [&str; 6] = [
         "Convergence",
         "Ill-conditioning and indistinguishable parameters",
@@ -605,9 +680,16 @@ fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData) {
         "SEREP basis",
         "Other",
     ];
-    if result.warnings.is_empty() && data.notes.is_empty() {
+    if result.warnings.is_empty() && data.notes.is_empty() && input_notes.is_empty() {
         s.push_str("<p>None.</p>\n");
         return;
+    }
+    if !input_notes.is_empty() {
+        s.push_str("<h3>Input files</h3>\n<ul class=\"warn\">\n");
+        for n in input_notes {
+            let _ = writeln!(s, "<li>{}</li>", esc(n));
+        }
+        s.push_str("</ul>\n");
     }
     for g in GROUPS {
         let items: Vec<String> = result

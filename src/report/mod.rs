@@ -15,6 +15,7 @@ pub mod charts;
 pub mod data;
 pub mod diagnosis;
 pub mod html;
+pub mod status;
 pub mod tables;
 
 use std::fmt;

@@ -29,7 +29,7 @@ use crate::solvers::eigen::EigenError;
 pub use correlation::{fdac_matrix, mac, sfdac, ModePair, SfdacSummary};
 pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, UpdatingFrequency};
 pub use iterate::{update, update_model, update_with_progress};
-pub use output::write_outputs;
+pub use output::{write_outputs, write_outputs_with_notes};
 pub use serep::{InverseMethod, SerepBasis};
 // FrfWeighting is defined in this module.
 

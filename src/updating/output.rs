@@ -20,8 +20,24 @@ use crate::model;
 
 /// Write the report files of `result` (for `deck`) into `dir` (created if missing).
 pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io::Result<()> {
+    write_outputs_with_notes(result, deck, dir, &[])
+}
+
+/// [`write_outputs`], with what the readers noticed in the inputs (skipped
+/// or doubtful data: `testdata::LoadedTest::notes`) in `report.json`
+/// (`input_notes`) and under Warnings in `report.md`.
+pub fn write_outputs_with_notes(
+    result: &UpdateResult,
+    deck: &Deck,
+    dir: &Path,
+    notes: &[String],
+) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
-    let json = serde_json::to_string_pretty(&report_json(result)).map_err(std::io::Error::other)?;
+    let mut json = report_json(result);
+    if let Some(o) = json.as_object_mut() {
+        o.insert("input_notes".into(), json!(notes));
+    }
+    let json = serde_json::to_string_pretty(&json).map_err(std::io::Error::other)?;
     write_atomic(&dir.join("report.json"), (json + "\n").as_bytes())?;
     write_atomic(
         &dir.join("parameters.csv"),
@@ -37,7 +53,10 @@ pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io:
     }
     let updated = model::updated_deck(deck, &result.parameter_values());
     write_atomic(&dir.join("updated.deck"), deck::write(&updated).as_bytes())?;
-    write_atomic(&dir.join("report.md"), report_md(result, deck).as_bytes())?;
+    write_atomic(
+        &dir.join("report.md"),
+        report_md_with_notes(result, deck, notes).as_bytes(),
+    )?;
     Ok(())
 }
 
@@ -274,7 +293,56 @@ pub fn sfdac_csv(result: &UpdateResult) -> String {
 
 /// `report.md`: a short summary for people.
 pub fn report_md(result: &UpdateResult, deck: &Deck) -> String {
+    report_md_with_notes(result, deck, &[])
+}
+
+/// The status box of `report.md`: a quoted block that opens with the status
+/// in capitals, then the misfit note when the estimate fits badly.
+fn status_md(s: &mut String, result: &UpdateResult) {
+    let st = crate::report::status::status(result);
+    if st.converged {
+        let _ = writeln!(s, "> **✅ Status: {}**", st.headline);
+    } else {
+        let _ = writeln!(s, "> **❌ Status: {}**", st.headline);
+    }
+    if let Some(note) = &st.misfit_note {
+        let _ = writeln!(s, ">\n> **⚠ Note:** {note}");
+    }
+    let _ = writeln!(s, ">\n> Layout: {}.\n", result.layout);
+}
+
+/// `## Estimated parameters`: the full-band estimate, if the run made one.
+fn estimate_md(s: &mut String, result: &UpdateResult, deck: &Deck) {
+    use crate::report::status;
+    let Some(est) = &result.estimate else { return };
+    s.push_str("## Estimated parameters (full-band estimate, relative change p̄)\n\n| parameter | value | ± 1 sd | verdict | deck bounds / prior |\n|---|---:|---:|---|---|\n");
+    for r in status::estimate_rows(est, deck) {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.name, r.value, r.sd, r.verdict, r.prior
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nMisfit {:.2}× the noise level; {}.\n",
+        est.misfit,
+        status::damping_sentence(est)
+    );
+    let unseen = status::unseen_directions(est);
+    if !unseen.is_empty() {
+        s.push_str("Directions in parameter space these data do not determine:\n\n");
+        for d in unseen {
+            let _ = writeln!(s, "- {d}");
+        }
+        s.push('\n');
+    }
+}
+
+/// [`report_md`] with the readers' notes on the inputs under Warnings.
+pub fn report_md_with_notes(result: &UpdateResult, deck: &Deck, notes: &[String]) -> String {
     let mut s = String::from("# FRF model updating report\n\n");
+    status_md(&mut s, result);
     let last = result.final_record();
     let _ = writeln!(
         s,
@@ -297,6 +365,7 @@ pub fn report_md(result: &UpdateResult, deck: &Deck) -> String {
         result.updating_frequencies.len(),
         result.updating_frequencies.hz().iter().map(|f| format!("{f:.3}")).collect::<Vec<_>>().join(", ")
     );
+    estimate_md(&mut s, result, deck);
     let title = deck.title();
     let _ = writeln!(
         s,
@@ -373,10 +442,13 @@ pub fn report_md(result: &UpdateResult, deck: &Deck) -> String {
     if let (Some(a), Some(b)) = (mean_abs_dev(&rows, false), mean_abs_dev(&rows, true)) {
         let _ = writeln!(s, "| mean \\|dev\\| | | | {a:.2} | | {b:.2} |");
     }
-    if !result.warnings.is_empty() {
+    if !result.warnings.is_empty() || !notes.is_empty() {
         s.push_str("\n## Warnings\n\n");
         for w in &result.warnings {
             let _ = writeln!(s, "- {w}");
+        }
+        for n in notes {
+            let _ = writeln!(s, "- input: {}", n.replace('\n', " "));
         }
     }
     s

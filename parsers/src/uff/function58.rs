@@ -118,7 +118,7 @@ pub(crate) fn record7(line: &[u8]) -> Result<Record7, String> {
             "abscissa minimum, increment and z value must be finite, found {v}"
         ));
     }
-    if even && points > 1 && !(reals[1] > 0.0) {
+    if even && points > 1 && reals[1].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return Err(format!(
             "even abscissa with increment {}: it must be > 0 (the {points} abscissae would not increase)",
             reals[1]

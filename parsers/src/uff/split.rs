@@ -147,6 +147,30 @@ impl Awaiting {
 /// file is cut into buffers. After [`Step::NeedMore`], call again with the
 /// same bytes plus more after them (bytes before [`Splitter::pos`] may be
 /// dropped with [`Splitter::consume`]).
+/// True for a line holding one unsigned integer of at most 6 digits (blanks
+/// around): how a dataset's number line reads (`    58`, `  2414`).
+fn looks_like_dataset_number(text: &[u8]) -> bool {
+    let start = text.iter().position(|&b| !text::is_blank(b));
+    let end = text.iter().rposition(|&b| !text::is_blank(b));
+    match (start, end) {
+        (Some(a), Some(b)) => b - a < 6 && text[a..=b].iter().all(u8::is_ascii_digit),
+        _ => false,
+    }
+}
+
+/// The note on lines outside any dataset: when the first of them reads like
+/// a dataset number, a `-1` delimiter was most likely lost before it (and
+/// with it that whole dataset).
+fn stray_note((first, count, numbered): (usize, usize, bool)) -> String {
+    let mut note = format!("line {first}: {count} line(s) outside any dataset ignored");
+    if numbered {
+        note.push_str(&format!(
+            "; line {first} reads like a dataset number: a '    -1' delimiter seems missing before it, so that dataset was skipped (add the -1 line)"
+        ));
+    }
+    note
+}
+
 #[derive(Debug)]
 pub(crate) struct Splitter {
     /// Remarks made while splitting (stray lines, repeated delimiters).
@@ -155,8 +179,9 @@ pub(crate) struct Splitter {
     pos: usize,
     /// Line number at `pos`.
     number: usize,
-    /// (first line, count) of text outside datasets, not yet reported.
-    stray: Option<(usize, usize)>,
+    /// (first line, count, whether the first line reads like a dataset
+    /// number) of text outside datasets, not yet reported.
+    stray: Option<(usize, usize, bool)>,
     /// File offset of the buffer's first byte (moved by `consume`).
     base: usize,
     /// Blocks returned so far.
@@ -270,7 +295,10 @@ impl Splitter {
             };
             if !text::is_delimiter(line.text) {
                 if !text::is_blank_line(line.text) {
-                    self.stray = Some(self.stray.map_or((line.number, 1), |(l, c)| (l, c + 1)));
+                    self.stray = Some(self.stray.map_or(
+                        (line.number, 1, looks_like_dataset_number(line.text)),
+                        |(l, c, n)| (l, c + 1, n),
+                    ));
                 }
                 self.pos = lines.pos;
                 self.number = lines.number;
@@ -309,10 +337,8 @@ impl Splitter {
 
     fn finish(&mut self) -> Result<Step, UffError> {
         self.finished = true;
-        if let Some((first, count)) = self.stray.take() {
-            self.notes.push(format!(
-                "line {first}: {count} line(s) outside any dataset ignored"
-            ));
+        if let Some(stray) = self.stray.take() {
+            self.notes.push(stray_note(stray));
         }
         if self.blocks == 0 {
             return Err(error(
@@ -335,10 +361,8 @@ impl Splitter {
         line: Line<'_>,
         eof: bool,
     ) -> Result<Attempt, UffError> {
-        if let Some((first, count)) = self.stray.take() {
-            self.notes.push(format!(
-                "line {first}: {count} line(s) outside any dataset ignored"
-            ));
+        if let Some(stray) = self.stray.take() {
+            self.notes.push(stray_note(stray));
         }
         // Number line; extra `-1` lines in a row are tolerated.
         let mut number_line = lines.next();

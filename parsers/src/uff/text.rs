@@ -93,7 +93,7 @@ impl<'a> Iterator for Lines<'a> {
 }
 
 #[inline]
-fn is_blank(b: u8) -> bool {
+pub(crate) fn is_blank(b: u8) -> bool {
     matches!(b, b' ' | b'\t' | b'\r' | b'\n' | 0)
 }
 

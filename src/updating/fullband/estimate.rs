@@ -40,6 +40,10 @@ pub const DEFAULT_MIN: f64 = -0.9;
 pub const DEFAULT_MAX: f64 = 10.0;
 /// A parameter whose standard deviation exceeds this is not identified.
 pub const UNIDENTIFIED_SD: f64 = 0.5;
+/// J₀ of 0.1 % relative noise under the 1 % model floor of the weights
+/// (s²/(s² + f²) with s = 1e-3/√2, f = 1e-2): the smallest noise level a
+/// misfit is measured against.
+const J0_FLOOR: f64 = 0.005;
 /// The weak prior of the first pass on parameters without one (see [`estimate`]).
 const WEAK_PRIOR_SD: f64 = 1.0;
 /// A decrease of Σr² below this many noise variances (J₀) ends the estimate:
@@ -353,7 +357,9 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     let iterations = first.iterations + out.iterations;
     out.iterations = iterations;
     let data_n = obj.data_rows(out.residuals.len());
-    let misfit = fit::mean_sq(&out.residuals[..data_n]) / j0;
+    // Against the noise level, but never below that of 0.1 % noise: on
+    // (nearly) noise-free data any model error would look enormous.
+    let misfit = fit::mean_sq(&out.residuals[..data_n]) / j0.max(J0_FLOOR);
     let parameters = (0..np)
         .map(|j| {
             let v = out.x[j];
@@ -505,8 +511,8 @@ impl Objective<'_> {
             &paired,
         );
         let mut cols = Vec::with_capacity(p.len());
-        for j in 0..p.len() {
-            let chain = 1.0 / (1.0 + p[j]);
+        for (j, &pj) in p.iter().enumerate() {
+            let chain = 1.0 / (1.0 + pj);
             let mut col = Vec::with_capacity(align.len());
             let mut k = 0;
             for a in &align {
@@ -657,14 +663,14 @@ fn uncertainty_from(
         // peak decide a frequency, and their residuals are shrunk by the fit);
         // a prior row's expected r² under the prior is J₀.
         let mut b = DMatrix::<f64>::zeros(n, n);
-        for i in 0..total {
+        for (i, &ri) in r.iter().enumerate() {
             let ji = nalgebra::DVector::from_vec(row(i));
             if ji.iter().all(|&v| v == 0.0) {
                 continue;
             }
             let w = if i < data_n {
                 let lev = (ji.transpose() * &hinv * &ji)[(0, 0)].clamp(0.0, 0.99);
-                r[i] * r[i] / ((1.0 - lev) * (1.0 - lev))
+                ri * ri / ((1.0 - lev) * (1.0 - lev))
             } else {
                 j0
             };
