@@ -333,16 +333,8 @@ pub fn static_residual(
     input: usize,
     outputs: &[usize],
 ) -> Result<Vec<f64>, FrfError> {
-    let scale = eigen::pencil_scale(k, m)?;
     let n = k.nrows();
-    check_request(n, &[], input, outputs)?;
-    if modes.shapes.nrows() != n {
-        return Err(invalid(format!(
-            "mode shapes have {} rows, model has {n} DOFs",
-            modes.shapes.nrows()
-        )));
-    }
-    let chol = ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio)?;
+    let chol = residual_factor(k, m, modes, input, outputs)?;
     let sigma = chol.shift;
     let mut e = Mat::<f64>::zeros(n, 1);
     e[(input, 0)] = 1.0;
@@ -360,6 +352,27 @@ pub fn static_residual(
         .collect())
 }
 
+/// Checks of a residual request and the factor of K − σM with the small
+/// shift σ < 0 (−1e-8·max K_ii/M_ii) that keeps free-free models regular.
+fn residual_factor(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    modes: &Modes,
+    input: usize,
+    outputs: &[usize],
+) -> Result<ShiftedCholesky, FrfError> {
+    let scale = eigen::pencil_scale(k, m)?;
+    let n = k.nrows();
+    check_request(n, &[], input, outputs)?;
+    if modes.shapes.nrows() != n {
+        return Err(invalid(format!(
+            "mode shapes have {} rows, model has {n} DOFs",
+            modes.shapes.nrows()
+        )));
+    }
+    Ok(ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio)?)
+}
+
 /// The static residual of [`static_residual`] and its first correction in
 /// frequency: the modes left out contribute
 /// Σ_high φ_jr φ_ir / (λ_r − ω²) ≈ R0_j + ω² R1_j with
@@ -374,16 +387,8 @@ pub fn static_residual_terms(
     input: usize,
     outputs: &[usize],
 ) -> Result<(Vec<f64>, Vec<f64>), FrfError> {
-    let scale = eigen::pencil_scale(k, m)?;
     let n = k.nrows();
-    check_request(n, &[], input, outputs)?;
-    if modes.shapes.nrows() != n {
-        return Err(invalid(format!(
-            "mode shapes have {} rows, model has {n} DOFs",
-            modes.shapes.nrows()
-        )));
-    }
-    let chol = ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio)?;
+    let chol = residual_factor(k, m, modes, input, outputs)?;
     let mass_times = |x: &Mat<f64>| -> Mat<f64> {
         let mut y = Mat::<f64>::zeros(n, 1);
         let sym = m.symbolic();

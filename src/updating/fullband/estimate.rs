@@ -207,19 +207,30 @@ impl Objective<'_> {
             }
         }
         for i in np..x.len() {
-            let mut h = 1e-4;
-            if x[i] + h > hi[i] && x[i] - h >= lo[i] {
-                h = -h;
-            }
-            let mut xp = x.to_vec();
-            xp[i] += h;
-            let rp = self.residuals(&xp)?;
-            if rp.len() != r.len() {
-                return None;
-            }
-            cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+            cols.push(self.difference_column(x, r, i, 1e-4, lo, hi)?);
         }
         Some(cols)
+    }
+
+    /// ∂r/∂x_i by a forward difference of step `h` (backward at an upper bound).
+    fn difference_column(
+        &mut self,
+        x: &[f64],
+        r: &[f64],
+        i: usize,
+        h: f64,
+        lo: &[f64],
+        hi: &[f64],
+    ) -> Option<Vec<f64>> {
+        let h = if x[i] + h > hi[i] && x[i] - h >= lo[i] {
+            -h
+        } else {
+            h
+        };
+        let mut xp = x.to_vec();
+        xp[i] += h;
+        let rp = self.residuals(&xp)?;
+        (rp.len() == r.len()).then(|| rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect())
     }
 
     /// ∂r/∂x by forward differences (step 1e-5 in p̄, 1e-4 in the damping's
@@ -234,22 +245,13 @@ impl Objective<'_> {
     ) -> Option<Vec<Vec<f64>>> {
         let np = self.names.len();
         let mut cols = Vec::with_capacity(x.len());
-        for i in 0..x.len() {
-            if !free[i] {
+        for (i, &is_free) in free.iter().enumerate().take(x.len()) {
+            if !is_free {
                 cols.push(vec![0.0; r.len()]);
                 continue;
             }
-            let mut h = if i < np { 1e-5 } else { 1e-4 };
-            if x[i] + h > hi[i] && x[i] - h >= lo[i] {
-                h = -h;
-            }
-            let mut xp = x.to_vec();
-            xp[i] += h;
-            let rp = self.residuals(&xp)?;
-            if rp.len() != r.len() {
-                return None;
-            }
-            cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
+            let h = if i < np { 1e-5 } else { 1e-4 };
+            cols.push(self.difference_column(x, r, i, h, lo, hi)?);
         }
         // Leave the model cached at x.
         self.residuals(x)?;
