@@ -156,6 +156,7 @@ pub fn not_converged_reason(result: &UpdateResult) -> String {
             matches!(
                 w,
                 updating::UpdateWarning::EstimateNotConverged { .. }
+                    | updating::UpdateWarning::EstimateRejected { .. }
                     | updating::UpdateWarning::NotConverged { .. }
                     | updating::UpdateWarning::Diverged { .. }
                     | updating::UpdateWarning::ParameterExploded { .. }

@@ -339,6 +339,12 @@ pub enum UpdateWarning {
     NotConverged { iterations: usize, last_step: f64 },
     /// The full-band estimate reached its iteration limit.
     EstimateNotConverged { iterations: usize },
+    /// A step of the first stage gave no usable model; the full-band
+    /// estimate started from the deck.
+    FirstStageStopped { reason: String },
+    /// The full-band estimate's parameters give no usable model; the first
+    /// stage's result is returned.
+    EstimateRejected { reason: String },
     /// The final fit stays well above the noise level: the deck's parameters
     /// do not explain the test (missing physics, or a data error).
     Misfit { ratio: f64 },
@@ -418,6 +424,14 @@ impl fmt::Display for UpdateWarning {
             UpdateWarning::EstimateNotConverged { iterations } => write!(
                 f,
                 "the full-band estimate did not converge in {iterations} Levenberg–Marquardt iterations; the best point found is returned"
+            ),
+            UpdateWarning::FirstStageStopped { reason } => write!(
+                f,
+                "the first stage stopped ({reason}); the full-band estimate started from the deck"
+            ),
+            UpdateWarning::EstimateRejected { reason } => write!(
+                f,
+                "the full-band estimate's parameters give no usable model ({reason}); the first stage's result is returned"
             ),
             UpdateWarning::Misfit { ratio } => write!(
                 f,

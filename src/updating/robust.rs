@@ -50,6 +50,20 @@ pub fn update_robust(
             };
             update_model(&mut |v| model::build(deck, v), test, &o, progress)?
         }
+        // A step of the first stage gave no usable model (a mechanism, a
+        // failed eigen solution): the estimate starts from the deck alone.
+        Err(e @ (UpdateError::Eigen(_) | UpdateError::Model(_))) => {
+            let o = UpdateOptions {
+                max_iter: 0,
+                frequencies_first: false,
+                ..opts.clone()
+            };
+            let mut r = update_model(&mut |v| model::build(deck, v), test, &o, progress)?;
+            r.warnings.push(UpdateWarning::FirstStageStopped {
+                reason: e.to_string(),
+            });
+            r
+        }
         r => r?,
     };
     let (column, _) = crate::testdata::layout::as_column(test);
@@ -68,7 +82,21 @@ pub fn update_robust(
         .iter()
         .map(|n| values.get(n).copied().unwrap_or(0.0))
         .collect();
-    let record = score(deck, test, opts, &values, &p_final, &result)?;
+    let record = match score(deck, test, opts, &values, &p_final, &result) {
+        Ok(r) => r,
+        // The estimate's parameters give no usable model (e.g. a mechanism
+        // once a stiffness sits at its lower bound): keep the first stage's
+        // result and say that the update did not converge.
+        Err(e) => {
+            result.converged = false;
+            result.stop = StopReason::Diverged;
+            result.warnings.push(UpdateWarning::EstimateRejected {
+                reason: e.to_string(),
+            });
+            result.estimate = Some(est);
+            return Ok(result);
+        }
+    };
     progress(&record.0);
     let prev = result.final_record().parameters.clone();
     let mut rec = record.0;
@@ -200,10 +228,12 @@ fn score(
     stage1: &UpdateResult,
 ) -> Result<(IterationRecord, Vec<Vec<f64>>), UpdateError> {
     let final_deck = model::updated_deck(deck, values);
+    // The first stage's own options: the same updating frequencies.
+    let _ = opts;
     let once = UpdateOptions {
         max_iter: 0,
         frequencies_first: false,
-        ..opts.clone()
+        ..stage1.options.clone()
     };
     let scored = update_model(
         &mut |v| model::build(&final_deck, v),
