@@ -113,13 +113,7 @@ fn channel_notes(frfs: &MeasuredFrfs) -> Vec<String> {
             None => references.push((r, 1)),
         }
     }
-    // One response DOF and several references is a roving-hammer row, used
-    // whole by reciprocity (layout.rs): nothing is set aside.
-    let one_response = frfs.channels.windows(2).all(|w| {
-        (w[0].response_node, w[0].response_direction)
-            == (w[1].response_node, w[1].response_direction)
-    });
-    if references.len() > 1 && !one_response {
+    if references.len() > 1 {
         let list: Vec<String> = references
             .iter()
             .map(|((n, d), k)| format!("{} ({k} channel(s))", dof_label(*n, *d)))
