@@ -82,7 +82,7 @@ pub fn update_robust(
         .iter()
         .map(|n| values.get(n).copied().unwrap_or(0.0))
         .collect();
-    let record = match score(deck, test, opts, &values, &p_final, &result) {
+    let record = match score(deck, test, &values, &p_final, &result) {
         Ok(r) => r,
         // The estimate's parameters give no usable model (e.g. a mechanism
         // once a stiffness sits at its lower bound): keep the first stage's
@@ -222,14 +222,12 @@ fn test_data(deck: &Deck, test: &MeasuredFrfs) -> Result<TestData, UpdateError> 
 fn score(
     deck: &Deck,
     test: &MeasuredFrfs,
-    opts: &UpdateOptions,
     values: &ParameterValues,
     p_final: &[f64],
     stage1: &UpdateResult,
 ) -> Result<(IterationRecord, Vec<Vec<f64>>), UpdateError> {
     let final_deck = model::updated_deck(deck, values);
     // The first stage's own options: the same updating frequencies.
-    let _ = opts;
     let once = UpdateOptions {
         max_iter: 0,
         frequencies_first: false,

@@ -729,12 +729,9 @@ fn uncertainty_from(
 /// A direction as (name, component) pairs, largest component +1, terms of
 /// at least 0.1 of it.
 fn named_direction(names: &[String], v: &[f64]) -> Vec<(String, f64)> {
-    let (imax, vmax) =
-        v.iter().enumerate().fold(
-            (0, 0.0f64),
-            |a, (i, x)| if x.abs() > a.1.abs() { (i, *x) } else { a },
-        );
-    let _ = imax;
+    let vmax = v
+        .iter()
+        .fold(0.0f64, |a, &x| if x.abs() > a.abs() { x } else { a });
     if vmax == 0.0 {
         return Vec::new();
     }

@@ -193,15 +193,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
         let used = mask.lines[l];
         if used {
             for (r, &w2) in mm.omega2.iter().enumerate() {
-                let wr = w2.max(0.0).sqrt();
-                let d = match damping {
-                    Damping::None => c64::new(w2 - w * w, 0.0),
-                    Damping::Modal { zeta } => c64::new(w2 - w * w, 2.0 * zeta * wr * w),
-                    Damping::Rayleigh { alpha, beta } => {
-                        c64::new(w2 - w * w, w * (alpha + beta * w2))
-                    }
-                    Damping::Hysteretic { eta } => c64::new(w2 - w * w, w2.max(0.0) * eta),
-                };
+                let d = denominator(w2, w, damping).0;
                 inv_d[r] = d.inv();
             }
         }
@@ -227,6 +219,28 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
         }
     }
     out
+}
+
+/// d_r(ω) = λ_r − ω² + i·D(λ_r, ω) of one mode and ∂d_r/∂λ_r, for each
+/// damping model: modal D = 2ζω_rω, Rayleigh D = ω(α + βλ_r), hysteretic
+/// D = ηλ_r (λ_r ≥ 0 taken for ω_r).
+pub fn denominator(lam: f64, w: f64, damping: Damping) -> (c64, c64) {
+    let wr = lam.max(0.0).sqrt();
+    match damping {
+        Damping::None => (c64::new(lam - w * w, 0.0), c64::new(1.0, 0.0)),
+        Damping::Modal { zeta } => (
+            c64::new(lam - w * w, 2.0 * zeta * wr * w),
+            c64::new(1.0, if wr > 0.0 { zeta * w / wr } else { 0.0 }),
+        ),
+        Damping::Rayleigh { alpha, beta } => (
+            c64::new(lam - w * w, w * (alpha + beta * lam)),
+            c64::new(1.0, beta * w),
+        ),
+        Damping::Hysteretic { eta } => (
+            c64::new(lam - w * w, lam.max(0.0) * eta),
+            c64::new(1.0, if lam > 0.0 { eta } else { 0.0 }),
+        ),
+    }
 }
 
 /// Weighted log residuals (magnitude and phase) over the masked points.

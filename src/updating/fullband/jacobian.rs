@@ -21,9 +21,7 @@
 use faer::c64;
 
 use super::data::TestData;
-#[cfg(test)]
-use super::fit;
-use super::fit::{Mask, ModalSolution};
+use super::fit::{self, Mask, ModalSolution};
 use faer::Mat;
 
 use crate::model::{Damping, FeModel};
@@ -66,7 +64,7 @@ pub fn parameter_columns(
     for (k, &l) in lines.iter().enumerate() {
         let w = data.omegas[l];
         for r in 0..nm {
-            let (d, dd) = denominator(lam[r], w, damping);
+            let (d, dd) = fit::denominator(lam[r], w, damping);
             let inv = d.inv();
             let h = dd * inv * inv;
             gr[(k, r)] = inv.re;
@@ -139,26 +137,6 @@ pub fn parameter_columns(
         }
     }
     cols
-}
-
-/// d_r(ω) and ∂d_r/∂λ_r for the damping models of [`fit::predict`].
-fn denominator(lam: f64, w: f64, damping: Damping) -> (c64, c64) {
-    let wr = lam.max(0.0).sqrt();
-    match damping {
-        Damping::None => (c64::new(lam - w * w, 0.0), c64::new(1.0, 0.0)),
-        Damping::Modal { zeta } => (
-            c64::new(lam - w * w, 2.0 * zeta * wr * w),
-            c64::new(1.0, if wr > 0.0 { zeta * w / wr } else { 0.0 }),
-        ),
-        Damping::Rayleigh { alpha, beta } => (
-            c64::new(lam - w * w, w * (alpha + beta * lam)),
-            c64::new(1.0, beta * w),
-        ),
-        Damping::Hysteretic { eta } => (
-            c64::new(lam - w * w, lam.max(0.0) * eta),
-            c64::new(1.0, if lam > 0.0 { eta } else { 0.0 }),
-        ),
-    }
 }
 
 #[cfg(test)]
