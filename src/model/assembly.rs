@@ -442,7 +442,7 @@ fn check_magnitudes(deck: &Deck) -> Result<(), ModelError> {
 /// (a direct FRF solve does not need it, so `build` does not ask).
 pub fn check_mass(fe: &FeModel) -> Result<(), ModelError> {
     let (mass, dofs) = (&fe.mass, &fe.dofs);
-    let diag = crate::solvers::sparse_ops::diagonal(mass);
+    let diag = super::diagonal(mass);
     match diag.iter().position(|m| !(*m > 0.0)) {
         Some(i) => {
             let (node, dof) = dofs.equations[i];

@@ -35,6 +35,23 @@ pub use update::{parameter_names, updated_deck};
 /// CONTRACT. Global sparse matrices: free DOFs only, both triangles stored.
 pub type SparseMatrix = SparseColMat<usize, f64>;
 
+/// Diagonal of a sparse matrix (duplicates summed).
+pub fn diagonal(a: &SparseMatrix) -> Vec<f64> {
+    let n = a.nrows().min(a.ncols());
+    let mut d = vec![0.0; n];
+    let sym = a.symbolic();
+    for (j, dj) in d.iter_mut().enumerate() {
+        let rows = sym.row_idx_of_col_raw(j);
+        let vals = a.val_of_col(j);
+        for (&i, &v) in rows.iter().zip(vals) {
+            if i == j {
+                *dj += v;
+            }
+        }
+    }
+    d
+}
+
 /// CONTRACT. A nodal degree of freedom; UFF direction codes 1..6 = x y z rx ry rz.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Dof {

@@ -36,22 +36,8 @@ pub(crate) fn check_pair(k: &SparseMatrix, m: &SparseMatrix) -> Result<usize, St
     Ok(n)
 }
 
-/// Diagonal of a sparse matrix (duplicates summed).
-pub(crate) fn diagonal(a: &SparseMatrix) -> Vec<f64> {
-    let n = a.nrows().min(a.ncols());
-    let mut d = vec![0.0; n];
-    let sym = a.symbolic();
-    for (j, dj) in d.iter_mut().enumerate() {
-        let rows = sym.row_idx_of_col_raw(j);
-        let vals = a.val_of_col(j);
-        for (&i, &v) in rows.iter().zip(vals) {
-            if i == j {
-                *dj += v;
-            }
-        }
-    }
-    d
-}
+// The diagonal is the model's (the model layer is below the solvers).
+pub(crate) use crate::model::diagonal;
 
 /// The union sparsity pattern of K and M, with where each of their entries
 /// lands, so that αK + βM (real or complex) is assembled without searching.
