@@ -230,7 +230,7 @@ fn convert_selected(
                     f.response_node,
                     f.response_direction
                 ),
-                super::info::function_type_name(f.function_type)
+                crate::testdata::function_type_name(f.function_type)
             ));
             out.push((*f).clone());
         }

@@ -5,8 +5,9 @@
 
 use frfup_parsers::uff::{Dataset, Function58, Ordinate, UffFile};
 
-use super::{dof_label, entity_dof_label, node_direction_from_entity, MeasuredFrfs};
-use crate::commands::info::function_type_name;
+use super::{
+    dof_label, entity_dof_label, function_type_name, node_direction_from_entity, MeasuredFrfs,
+};
 
 /// FRF magnitudes above this (in the file's units) are taken as misread data.
 const IMPLAUSIBLE: f64 = 1e20;

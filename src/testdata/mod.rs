@@ -159,3 +159,38 @@ pub fn node_direction_from_entity(entity: &str) -> Option<(i64, i32)> {
     };
     Some((node, sign * code))
 }
+
+/// Name of a UFF function type (record 6, field 1).
+pub fn function_type_name(code: i32) -> &'static str {
+    match code {
+        0 => "general",
+        1 => "time",
+        2 => "auto spectrum",
+        3 => "cross spectrum",
+        4 => "FRF",
+        5 => "transmissibility",
+        6 => "coherence",
+        7 => "auto correlation",
+        8 => "cross correlation",
+        9 => "PSD",
+        10 => "ESD",
+        11 => "probability density",
+        12 => "spectrum",
+        13 => "cumulative distribution",
+        14 => "peaks valley",
+        15 => "stress/cycles",
+        16 => "strain/cycles",
+        17 => "orbit",
+        18 => "mode indicator",
+        19 => "force pattern",
+        20 => "partial power",
+        21 => "partial coherence",
+        22 => "eigenvalue",
+        23 => "eigenvector",
+        24 => "shock response spectrum",
+        25 => "FIR filter",
+        26 => "multiple coherence",
+        27 => "order function",
+        _ => "other",
+    }
+}
