@@ -7,8 +7,9 @@
 
 use std::path::{Path, PathBuf};
 
-use frfup::diagnosis::{diagnose, write_outputs, DiagnoseOptions, Diagnosis, Finding};
+use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis, Finding};
 use frfup::parsers::deck::Deck;
+use frfup::report::diagnosis::write_outputs;
 use frfup::testdata::MeasuredFrfs;
 
 mod png_support;

@@ -35,7 +35,7 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
         ))
     })?;
     crate::fsio::write_folder(&cmd.out, |dir| {
-        diagnosis::write_outputs_with_notes(
+        crate::report::diagnosis::write_outputs_with_notes(
             &d,
             &deck,
             &test,

@@ -9,11 +9,12 @@
 //!    with the damping fitted along ([`fit`]).
 //! 4. Keep those that predict held-out frequency bands and channels better
 //!    by more than the noise explains, greedily ([`select`]).
-//! 5. Write `diagnosis.json`, `diagnosed.deck` and `report.md` ([`output`]).
+//!
+//! The files of a diagnosis are written by `report::diagnosis` (the report
+//! layer, above this one).
 
 pub mod hypotheses;
 pub mod localise;
-pub mod output;
 pub mod refit;
 pub mod select;
 
@@ -30,7 +31,6 @@ use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
 use select::{Engine, HypFit};
 
 pub use crate::updating::fullband::{data, fit};
-pub use output::{write_outputs, write_outputs_with_notes};
 
 /// Settings of a diagnosis.
 #[derive(Clone, Debug)]

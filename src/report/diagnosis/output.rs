@@ -1,6 +1,6 @@
 //! Files of a diagnosis: `diagnosis.json`, `diagnosed.deck`, `report.md`,
 //! `report.html`, `localisation.svg`, `frf-overlay.svg` and `frf/NN-CHANNEL.svg`
-//! (charts and page from [`crate::report::diagnosis`]), each written atomically
+//! (charts and page from [`super`]), each written atomically
 //! after all of them were rendered.
 
 use std::path::Path;
@@ -9,7 +9,7 @@ use frfup_parsers::deck::Deck;
 
 use serde_json::{json, Map, Value};
 
-use super::{sig, Diagnosis, Finding, FitQuality};
+use crate::diagnosis::{sig, Diagnosis, Finding, FitQuality};
 use crate::fsio::write_atomic;
 use crate::testdata::MeasuredFrfs;
 
@@ -276,8 +276,8 @@ pub fn write_outputs_with_notes(
             (report_md(d, deck_name, test_name) + &notes_md).into_bytes(),
         ),
     ];
-    let mut rendered = crate::report::diagnosis::render_files(d, deck, test, deck_name, test_name)
-        .map_err(std::io::Error::other)?;
+    let mut rendered =
+        super::render_files(d, deck, test, deck_name, test_name).map_err(std::io::Error::other)?;
     if let Some((_, page)) = rendered.iter_mut().find(|(n, _)| n == "report.html") {
         let text = String::from_utf8_lossy(page).into_owned();
         if let Some(at) = text.rfind("</body>") {

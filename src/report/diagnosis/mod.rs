@@ -20,10 +20,14 @@ use super::html::{chart, esc, frf_charts};
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, Mask};
 use crate::diagnosis::hypotheses::damping as hdamp;
-use crate::diagnosis::output::finding_values;
 use crate::diagnosis::{describe_damping, sig, DiagnoseError, Diagnosis, FitQuality};
 use crate::model::Damping;
 use crate::testdata::MeasuredFrfs;
+use output::finding_values;
+
+pub mod output;
+
+pub use output::{write_outputs, write_outputs_with_notes};
 
 /// Names of the three models, in the order of the fit table.
 pub const MODEL_NAMES: [&str; 3] = ["as given", "parameters updated", "diagnosed"];
