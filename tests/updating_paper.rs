@@ -82,7 +82,7 @@ fn show(name: &str, r: &UpdateResult) {
             it.basis_modes.len()
         );
     }
-    let rows = frfup::updating::output::frequency_rows(r);
+    let rows = frfup::report::output::frequency_rows(r);
     for (i, row) in rows.iter().enumerate() {
         eprintln!(
             "  mode {} test {:.3} initial {:?} updated {:?}",

@@ -107,7 +107,7 @@ pub fn run_into(
         .iter()
         .map(|n| format!("{}: {n}", shown.test))
         .collect();
-    updating::write_outputs_with_notes(&result, &deck, dir, &notes)
+    crate::report::output::write_outputs_with_notes(&result, &deck, dir, &notes)
         .map_err(|e| CommandError::output(&cmd.out, e))?;
     lap("write tables and updated deck", &mut timings);
     let inputs = crate::report::ReportInputs {

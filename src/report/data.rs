@@ -19,12 +19,12 @@ use super::charts::{
     ConvergenceChart, FrequencyChart, FrfChannel, FrfOverlay, MacChart, MacPanel, ModeFrequencies,
     NamedSeries, ResonanceMark, SfdacChart,
 };
+use super::output::frequency_rows;
 use crate::model::{self, Damping, FeModel, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use crate::solvers::frf;
 use crate::testdata::{FrfKind, MeasuredFrfs};
 use crate::updating::measured::MeasuredDofs;
-use crate::updating::output::frequency_rows;
 use crate::updating::{mac, ModePair, UpdateResult};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;

@@ -7,9 +7,9 @@ use std::fmt::Write as _;
 use frfup_parsers::deck::Deck;
 
 use super::data::{ReportData, ReportInputs};
+use super::output::{frequency_rows, mean_abs_dev};
 use crate::testdata::MeasuredFrfs;
 use crate::updating::frequencies::FrequencySource;
-use crate::updating::output::{frequency_rows, mean_abs_dev};
 use crate::updating::{InverseMethod, UpdateResult, UpdateWarning};
 
 /// The rendered charts embedded in the page.

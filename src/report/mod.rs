@@ -5,16 +5,19 @@
 //!   struct to SVG text (same input → same bytes);
 //! * [`data`]: the adapter from an [`UpdateResult`] (+ deck + test data) to
 //!   those structs, including the initial and updated model FRFs;
-//! * [`tables`]: the CSV files `updating::write_outputs` does not write;
+//! * [`output`]: the core files of an update (`report.json`, the paper's
+//!   tables as CSV, `updated.deck`, `report.md`);
+//! * [`tables`]: the CSV files [`output::write_outputs`] does not write;
 //! * [`html`]: the page;
 //! * [`diagnosis`]: the charts and page of `frfup diagnose`.
 //!
-//! Entry point: [`write_report`].
+//! Entry points: [`output::write_outputs`] and [`write_report`].
 
 pub mod charts;
 pub mod data;
 pub mod diagnosis;
 pub mod html;
+pub mod output;
 pub mod status;
 pub mod tables;
 

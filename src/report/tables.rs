@@ -1,4 +1,4 @@
-//! CSV tables of the report that `updating::write_outputs` does not write
+//! CSV tables of the report that [`super::output::write_outputs`] does not write
 //! (it writes `parameters.csv`, `frequencies.csv`, `sfdac.csv`). Units are in
 //! the column names; empty cells are missing values.
 //!

@@ -5,9 +5,10 @@
 //! [`measured`] (test channels → FE DOFs, Eq. 50), [`frequencies`] (peak
 //! picking, Eq. 42), [`serep`] (Eq. 32–34, §3.3–3.4), [`sensitivity`]
 //! (Eq. 7–12, 16–20), [`svd_solve`] (Eq. 35–41), [`correlation`] (Eq. 44–46,
-//! MAC), [`iterate`] (Eq. 26–29, 49) and [`output`] (report files).
+//! MAC) and [`iterate`] (Eq. 26–29, 49). The files of an update are written
+//! by `report::output` (the report layer, above this one).
 //!
-//! Entry points: [`update`] / [`update_with_progress`] and [`write_outputs`].
+//! Entry points: [`update`] / [`update_with_progress`].
 
 pub mod correlation;
 pub mod frequencies;
@@ -15,7 +16,6 @@ pub mod fullband;
 pub mod identify;
 pub mod iterate;
 pub mod measured;
-pub mod output;
 pub mod robust;
 pub mod sensitivity;
 pub mod serep;
@@ -29,7 +29,6 @@ use crate::solvers::eigen::EigenError;
 pub use correlation::{fdac_matrix, mac, sfdac, ModePair, SfdacSummary};
 pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, UpdatingFrequency};
 pub use iterate::{update, update_model, update_with_progress};
-pub use output::{write_outputs, write_outputs_with_notes};
 pub use serep::{InverseMethod, SerepBasis};
 // FrfWeighting is defined in this module.
 

@@ -14,9 +14,9 @@ use std::path::Path;
 use frfup_parsers::deck::{self, Deck};
 use serde_json::{json, Map, Value};
 
-use super::{IterationRecord, UpdateResult};
 use crate::fsio::write_atomic;
 use crate::model;
+use crate::updating::{IterationRecord, UpdateResult};
 
 /// Write the report files of `result` (for `deck`) into `dir` (created if missing).
 pub fn write_outputs(result: &UpdateResult, deck: &Deck, dir: &Path) -> std::io::Result<()> {
@@ -150,8 +150,8 @@ pub fn report_json(result: &UpdateResult) -> Value {
     };
     let o = &result.options;
     let (inverse, perturbation) = match o.inverse {
-        super::InverseMethod::Svd => ("svd", Value::Null),
-        super::InverseMethod::Perturb { relative } => ("perturb", json!(relative)),
+        crate::updating::InverseMethod::Svd => ("svd", Value::Null),
+        crate::updating::InverseMethod::Perturb { relative } => ("perturb", json!(relative)),
     };
     let estimate = result.estimate.as_ref();
     json!({
@@ -299,7 +299,7 @@ pub fn report_md(result: &UpdateResult, deck: &Deck) -> String {
 /// The status box of `report.md`: a quoted block that opens with the status
 /// in capitals, then the misfit note when the estimate fits badly.
 fn status_md(s: &mut String, result: &UpdateResult) {
-    let st = crate::report::status::status(result);
+    let st = super::status::status(result);
     if st.converged {
         let _ = writeln!(s, "> **✅ Status: {}**", st.headline);
     } else {
@@ -313,7 +313,7 @@ fn status_md(s: &mut String, result: &UpdateResult) {
 
 /// `## Estimated parameters`: the full-band estimate, if the run made one.
 fn estimate_md(s: &mut String, result: &UpdateResult, deck: &Deck) {
-    use crate::report::status;
+    use super::status;
     let Some(est) = &result.estimate else { return };
     s.push_str("## Estimated parameters (full-band estimate, relative change p̄)\n\n| parameter | value | ± 1 sd | verdict | deck bounds / prior |\n|---|---:|---:|---|---|\n");
     for r in status::estimate_rows(est, deck) {
@@ -464,7 +464,7 @@ fn csv_field(s: &str) -> String {
 
 /// `estimates.csv`: the full-band estimate of each parameter with its
 /// uncertainty, bounds and prior.
-fn estimates_csv(est: &super::fullband::estimate::FullBandEstimate) -> String {
+fn estimates_csv(est: &crate::updating::fullband::estimate::FullBandEstimate) -> String {
     let mut s = String::from("parameter,value,sd,identified,at_bound,min,max,prior_sd\n");
     for p in &est.parameters {
         let _ = writeln!(
