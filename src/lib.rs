@@ -18,6 +18,7 @@ pub mod model;
 pub mod report;
 pub mod simulate;
 pub mod solvers;
+pub mod tasks;
 pub mod testdata;
 pub mod updating;
 

@@ -7,7 +7,8 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use frfup::commands::progress::{Progress, StepReporter};
-use frfup::commands::{self, convert, CommandError};
+use frfup::commands::{self, convert};
+use frfup::tasks::{self, update, CommandError};
 use frfup::testdata::FrfKind;
 use std::sync::Mutex;
 
@@ -332,7 +333,7 @@ enum ToKind {
 
 fn run(cli: Cli) -> Result<(), CommandError> {
     let progress = Progress::detect(cli.quiet);
-    commands::set_strict(cli.strict);
+    tasks::set_strict(cli.strict);
     match cli.command {
         Command::Demo { out } => {
             frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
@@ -467,7 +468,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             fail_below_sfdac,
             fail_above_freq_error,
         } => {
-            let cmd = commands::update::UpdateCommand {
+            let cmd = update::UpdateCommand {
                 deck,
                 test,
                 out: out.clone(),
@@ -475,7 +476,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             };
             let reporter =
                 StepReporter::new(cli.quiet, cmd.options.max_iter as u64 + 1, "iteration");
-            let result = commands::update::run(&cmd, &mut |rec| {
+            let result = update::run(&cmd, &mut |rec| {
                 reporter.step(&iteration_line(rec));
             });
             reporter.finish();
@@ -483,14 +484,14 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             print_timings(cli.verbose, &outcome);
             print_update_summary(&outcome);
             println!("wrote {}", out.display());
-            let thresholds = frfup::batch::Thresholds {
+            let thresholds = update::Thresholds {
                 min_sfdac: fail_below_sfdac,
                 max_freq_error_pct: fail_above_freq_error,
             };
             if !outcome.result.converged {
                 return Err(CommandError::threshold(format!(
                     "not converged: {}",
-                    commands::update::not_converged_reason(&outcome.result)
+                    frfup::report::status::not_converged_reason(&outcome.result)
                 )));
             }
             check_thresholds(&outcome, thresholds)?;
@@ -544,7 +545,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                     out: out.clone(),
                     jobs,
                     shard,
-                    thresholds: frfup::batch::Thresholds {
+                    thresholds: update::Thresholds {
                         min_sfdac: fail_below_sfdac,
                         max_freq_error_pct: fail_above_freq_error,
                     },
@@ -603,7 +604,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
     Ok(())
 }
 
-fn print_update_summary(outcome: &commands::update::UpdateOutcome) {
+fn print_update_summary(outcome: &update::UpdateOutcome) {
     let r = &outcome.result;
     let last = r.final_record();
     println!(
@@ -654,7 +655,7 @@ fn iteration_line(rec: &frfup::updating::IterationRecord) -> String {
     )
 }
 
-fn print_timings(verbose: bool, outcome: &commands::update::UpdateOutcome) {
+fn print_timings(verbose: bool, outcome: &update::UpdateOutcome) {
     if verbose {
         for (stage, s) in &outcome.timings {
             eprintln!("time: {stage:<32} {s:>8.3} s");
@@ -668,10 +669,10 @@ fn pct(x: Option<f64>) -> String {
 }
 
 fn check_thresholds(
-    outcome: &commands::update::UpdateOutcome,
-    t: frfup::batch::Thresholds,
+    outcome: &update::UpdateOutcome,
+    t: update::Thresholds,
 ) -> Result<(), CommandError> {
-    let reasons = commands::update::threshold_failures(outcome, t);
+    let reasons = update::threshold_failures(outcome, t);
     if reasons.is_empty() {
         Ok(())
     } else {

@@ -17,26 +17,8 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::tasks::update::Thresholds;
 use crate::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
-
-/// Pass/fail thresholds of a case.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Thresholds {
-    /// Fail if the updated mean SFDAC is below this.
-    pub min_sfdac: Option<f64>,
-    /// Fail if the updated mean |Δf/f| (%) is above this.
-    pub max_freq_error_pct: Option<f64>,
-}
-
-impl Thresholds {
-    /// `self` where set, else `fallback`.
-    pub fn or(self, fallback: Thresholds) -> Thresholds {
-        Thresholds {
-            min_sfdac: self.min_sfdac.or(fallback.min_sfdac),
-            max_freq_error_pct: self.max_freq_error_pct.or(fallback.max_freq_error_pct),
-        }
-    }
-}
 
 /// One case of a campaign.
 #[derive(Clone, Debug, PartialEq)]

@@ -13,11 +13,12 @@ use std::time::Instant;
 
 use serde_json::json;
 
-pub use campaign::{Campaign, Case, Shard, Thresholds};
+pub use campaign::{Campaign, Case, Shard};
 
-use crate::commands::update::{self as update_cmd, UpdateCommand};
-use crate::commands::CommandError;
 use crate::fsio::write_atomic;
+use crate::report::status::not_converged_reason;
+use crate::tasks::update::{self as update_task, Thresholds, UpdateCommand};
+use crate::tasks::CommandError;
 
 /// Options of `frfup batch`.
 #[derive(Clone, Debug)]
@@ -143,7 +144,7 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
         out: dir.to_path_buf(),
         options: case.options.clone(),
     };
-    let outcome = std::panic::catch_unwind(|| update_cmd::run(&cmd, &mut |_| {}));
+    let outcome = std::panic::catch_unwind(|| update_task::run(&cmd, &mut |_| {}));
     let wall_time_s = start.elapsed().as_secs_f64();
     let empty = |status| CaseSummary {
         name: case.name.clone(),
@@ -171,11 +172,11 @@ pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary 
     let r = &outcome.result;
     let first = &r.iterations[0];
     let last = r.final_record();
-    let reasons = update_cmd::threshold_failures(&outcome, thresholds);
+    let reasons = update_task::threshold_failures(&outcome, thresholds);
     CaseSummary {
         name: case.name.clone(),
         status: if !r.converged {
-            CaseStatus::NotConverged(update_cmd::not_converged_reason(r))
+            CaseStatus::NotConverged(not_converged_reason(r))
         } else if reasons.is_empty() {
             CaseStatus::Passed
         } else {

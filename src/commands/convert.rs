@@ -4,8 +4,9 @@ use std::path::{Path, PathBuf};
 
 use frfup_parsers::uff::{Abscissa, Dataset, Function58, Ordinate, UffFile};
 
-use super::{progress::Progress, read_uff, CommandError};
+use super::{progress::Progress, read_uff};
 use crate::fsio::write_atomic_with;
+use crate::tasks::{warn_notes, CommandError};
 use crate::testdata::{self, FrfKind, MeasuredFrfs};
 
 /// Target of `--to`.
@@ -147,7 +148,7 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let notes = testdata::from_uff_with_notes(&file, &opts.input)
         .map(|l| l.notes)
         .unwrap_or_else(|_| file.notes.clone());
-    super::warn_notes(&opts.input, &notes)?;
+    warn_notes(&opts.input, &notes)?;
     let selected = select(&file, opts.channels.as_deref())?;
     if selected.is_empty() {
         return Err(CommandError::input(format!(

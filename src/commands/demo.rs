@@ -3,9 +3,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::update::{run_into, Shown, UpdateCommand, UpdateOutcome};
-use super::CommandError;
 use crate::fsio::{write_atomic, write_folder};
+use crate::tasks::update::{run_into, Shown, UpdateCommand, UpdateOutcome};
+use crate::tasks::CommandError;
 use crate::updating::UpdateOptions;
 
 /// The analyst's deck of the GARTEUR-like test bed with its known bungee

@@ -4,8 +4,10 @@
 
 use std::path::PathBuf;
 
-use super::{read_deck, CommandError};
 use crate::diagnosis::{self, DiagnoseOptions, Diagnosis};
+use crate::tasks::{
+    check_model_for_modes, load_test_with_notes, name_mechanism_equations, read_deck, CommandError,
+};
 
 /// Options of `frfup diagnose`.
 #[derive(Clone, Debug)]
@@ -20,14 +22,14 @@ pub struct DiagnoseCommand {
 pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
-    super::check_model_for_modes(&cmd.deck, &deck)?;
-    let (test, notes) = super::load_test_with_notes(&cmd.test)?;
+    check_model_for_modes(&cmd.deck, &deck)?;
+    let (test, notes) = load_test_with_notes(&cmd.test)?;
     let notes: Vec<String> = notes
         .iter()
         .map(|n| format!("{}: {n}", cmd.test.display()))
         .collect();
     let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
-        let e = super::name_mechanism_equations(&e.to_string(), &deck);
+        let e = name_mechanism_equations(&e.to_string(), &deck);
         CommandError::input(format!(
             "{} with {}: {e}",
             cmd.deck.display(),

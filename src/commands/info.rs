@@ -6,7 +6,8 @@ use std::path::Path;
 use frfup_parsers::uff::{Abscissa, Dataset, Function58, UffFile};
 use serde_json::{json, Value};
 
-use super::{progress::Progress, read_uff, CommandError};
+use super::{progress::Progress, read_uff};
+use crate::tasks::CommandError;
 use crate::testdata::{entity_dof_label, function_type_name};
 
 /// Name of a UFF ordinate data type (record 7, field 1).

@@ -3,10 +3,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use super::{read_deck, CommandError};
 use crate::fsio::write_atomic;
 use crate::model::{self, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
+use crate::tasks::{eigen_error, model_error, read_deck, CommandError};
 
 /// Options of `frfup modes`.
 #[derive(Clone, Debug)]
@@ -30,8 +30,8 @@ pub struct ModeRow {
 pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
     let deck = read_deck(&opts.deck)?;
     check_settings(&opts.deck, &deck, &opts.values)?;
-    let fe = model::build(&deck, &opts.values).map_err(|e| super::model_error(&opts.deck, e))?;
-    model::check_mass(&fe).map_err(|e| super::model_error(&opts.deck, e))?;
+    let fe = model::build(&deck, &opts.values).map_err(|e| model_error(&opts.deck, e))?;
+    model::check_mass(&fe).map_err(|e| model_error(&opts.deck, e))?;
     let modes = lowest_modes(
         &fe.stiffness,
         &fe.mass,
@@ -41,7 +41,7 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
             ..EigenOptions::default()
         },
     )
-    .map_err(|e| super::eigen_error(&opts.deck, &fe, e))?;
+    .map_err(|e| eigen_error(&opts.deck, &fe, e))?;
     let translational: Vec<bool> = fe
         .dofs
         .equations

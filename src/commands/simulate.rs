@@ -4,10 +4,10 @@ use std::path::PathBuf;
 
 use super::convert::parse_direction;
 use super::modes::check_settings;
-use super::{read_deck, CommandError};
 use crate::fsio::write_atomic_with;
 use crate::model::ParameterValues;
 use crate::simulate::{self, Band, Campaign, NodeDirection, Sensors};
+use crate::tasks::{read_deck, CommandError};
 
 /// Options of `frfup simulate`.
 #[derive(Clone, Debug)]

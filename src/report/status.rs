@@ -5,7 +5,7 @@
 use frfup_parsers::deck::Deck;
 
 use crate::updating::fullband::estimate::FullBandEstimate;
-use crate::updating::UpdateResult;
+use crate::updating::{self, UpdateResult};
 
 /// The estimate's misfit (mean squared residual over its noise-level value)
 /// above which the deck's parameters do not explain the test.
@@ -21,15 +21,12 @@ pub struct Status {
     pub misfit_note: Option<String>,
 }
 
-/// The status of `result`; the reason is `commands::update::not_converged_reason`'s.
+/// The status of `result`; the reason is [`not_converged_reason`]'s.
 pub fn status(result: &UpdateResult) -> Status {
     let headline = if result.converged {
         "converged".to_string()
     } else {
-        format!(
-            "NOT CONVERGED — {}",
-            crate::commands::update::not_converged_reason(result)
-        )
+        format!("NOT CONVERGED — {}", not_converged_reason(result))
     };
     let misfit_note = result
         .estimate
@@ -46,6 +43,25 @@ pub fn status(result: &UpdateResult) -> Status {
         headline,
         misfit_note,
     }
+}
+
+/// Why an update that did not converge stopped, in words.
+pub fn not_converged_reason(result: &UpdateResult) -> String {
+    let why = result
+        .warnings
+        .iter()
+        .find(|w| {
+            matches!(
+                w,
+                updating::UpdateWarning::EstimateNotConverged { .. }
+                    | updating::UpdateWarning::EstimateRejected { .. }
+                    | updating::UpdateWarning::NotConverged { .. }
+                    | updating::UpdateWarning::Diverged { .. }
+                    | updating::UpdateWarning::ParameterExploded { .. }
+            )
+        })
+        .map(|w| w.to_string());
+    why.unwrap_or_else(|| result.stop.name().to_string())
 }
 
 /// One parameter of the full-band estimate, as text.

@@ -1,10 +1,30 @@
-//! `frfup update MODEL.deck TEST.uff --out DIR [...]`: the paper's FRF updating,
-//! its tables and the updated deck.
+//! An update as a task (`frfup update`, `frfup demo`, each case of `frfup
+//! batch`): read the deck and the test data, update, write the tables, the
+//! updated deck and the report into one folder; check the thresholds.
 
 use std::path::{Path, PathBuf};
 
 use super::{read_deck, CommandError};
 use crate::updating::{self, UpdateOptions, UpdateResult};
+
+/// Pass/fail thresholds of a case.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Thresholds {
+    /// Fail if the updated mean SFDAC is below this.
+    pub min_sfdac: Option<f64>,
+    /// Fail if the updated mean |Δf/f| (%) is above this.
+    pub max_freq_error_pct: Option<f64>,
+}
+
+impl Thresholds {
+    /// `self` where set, else `fallback`.
+    pub fn or(self, fallback: Thresholds) -> Thresholds {
+        Thresholds {
+            min_sfdac: self.min_sfdac.or(fallback.min_sfdac),
+            max_freq_error_pct: self.max_freq_error_pct.or(fallback.max_freq_error_pct),
+        }
+    }
+}
 
 /// Options of `frfup update`.
 #[derive(Clone, Debug)]
@@ -147,27 +167,8 @@ fn list_files(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
-/// Why an update that did not converge stopped, in words.
-pub fn not_converged_reason(result: &UpdateResult) -> String {
-    let why = result
-        .warnings
-        .iter()
-        .find(|w| {
-            matches!(
-                w,
-                updating::UpdateWarning::EstimateNotConverged { .. }
-                    | updating::UpdateWarning::EstimateRejected { .. }
-                    | updating::UpdateWarning::NotConverged { .. }
-                    | updating::UpdateWarning::Diverged { .. }
-                    | updating::UpdateWarning::ParameterExploded { .. }
-            )
-        })
-        .map(|w| w.to_string());
-    why.unwrap_or_else(|| result.stop.name().to_string())
-}
-
 /// The thresholds an update fails, in words (empty: all passed).
-pub fn threshold_failures(outcome: &UpdateOutcome, t: crate::batch::Thresholds) -> Vec<String> {
+pub fn threshold_failures(outcome: &UpdateOutcome, t: Thresholds) -> Vec<String> {
     let last = outcome.result.final_record();
     let mut reasons = Vec::new();
     if let Some(min) = t.min_sfdac {
