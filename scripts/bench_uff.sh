@@ -18,36 +18,41 @@
 #
 # Usage: scripts/bench_uff.sh [channels] [lines]
 # Env: RUNS (default 7), PYUFF_TIMEOUT (default 300), BENCH_UFF_DIR,
-#      BENCH_UFF_CMD=example to time parsers/examples/read_uff instead.
+#      BENCH_UFF_CMD=example to time parsers/examples/read_uff instead,
+#      FRFUP_BIN=PATH to time that frfup binary (e.g. a copy built before a
+#      change) instead of building one; CARGO_TARGET_DIR is honoured.
 set -euo pipefail
 channels=${1:-256}
 lines=${2:-6400}
 runs=${RUNS:-7}
 root=$(cd "$(dirname "$0")/.." && pwd)
-dir=${BENCH_UFF_DIR:-$root/target/bench_uff}
+target=${CARGO_TARGET_DIR:-$root/target}
+dir=${BENCH_UFF_DIR:-$target/bench_uff}
 mkdir -p "$dir"
 cd "$root"
 cargo build --release -p frfup-parsers --example gen_campaign --example read_uff --quiet
-if [[ ${BENCH_UFF_CMD:-frfup} == frfup ]]; then
+if [[ -n ${FRFUP_BIN:-} ]]; then
+    cmd=("$(realpath "$FRFUP_BIN")" info)
+elif [[ ${BENCH_UFF_CMD:-frfup} == frfup ]]; then
     cargo build --release --bin frfup --quiet
-    cmd=("$root/target/release/frfup" info)
+    cmd=("$target/release/frfup" info)
 else
-    cmd=("$root/target/release/examples/read_uff")
+    cmd=("$target/release/examples/read_uff")
 fi
 ascii=$dir/campaign_${channels}x${lines}_ascii.uff
 binary=$dir/campaign_${channels}x${lines}_58b.uff
 if [[ ! -s $ascii || ! -s $binary ]]; then
-    ./target/release/examples/gen_campaign "$ascii" "$binary" "$channels" "$lines"
+    "$target"/release/examples/gen_campaign "$ascii" "$binary" "$channels" "$lines"
 fi
 tiny_ascii=$dir/tiny_ascii.uff
 tiny_binary=$dir/tiny_58b.uff
 if [[ ! -s $tiny_ascii || ! -s $tiny_binary ]]; then
-    ./target/release/examples/gen_campaign "$tiny_ascii" "$tiny_binary" 1 16 > /dev/null
+    "$target"/release/examples/gen_campaign "$tiny_ascii" "$tiny_binary" 1 16 > /dev/null
 fi
 python3 -c "import pyuff" 2>/dev/null || python3 -m pip install --quiet pyuff || true
 
 echo "cores: $(nproc); load: $(cut -d' ' -f1-3 /proc/loadavg); command: ${cmd[*]} FILE"
-python3 - "$runs" "${PYUFF_TIMEOUT:-300}" "$ascii" "$binary" "$tiny_ascii" "$tiny_binary" "$root/target/release/examples/read_uff" "${cmd[@]}" <<'PY'
+python3 - "$runs" "${PYUFF_TIMEOUT:-300}" "$ascii" "$binary" "$tiny_ascii" "$tiny_binary" "$target/release/examples/read_uff" "${cmd[@]}" <<'PY'
 import os, re, subprocess, sys, time
 
 runs, pyuff_timeout = int(sys.argv[1]), float(sys.argv[2])
