@@ -11,7 +11,6 @@
 // Checks are written `!(x >= limit)` on purpose: a NaN must fail them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod alloc;
 pub mod diagnosis;
 pub mod fsio;
 pub mod model;

@@ -12,11 +12,6 @@ use frfup::tasks::{self, update, CommandError};
 use frfup::testdata::FrfKind;
 use std::sync::Mutex;
 
-/// The system allocator, with UFF reads' large blocks in huge pages
-/// (`frfup::alloc`).
-#[global_allocator]
-static ALLOCATOR: frfup::alloc::FrfupAllocator = frfup::alloc::FrfupAllocator;
-
 #[derive(Parser)]
 #[command(
     name = "frfup",

@@ -27,13 +27,7 @@ pub fn read_uff(
     let reader = progress::ProgressReader::new(file, len, &path.display().to_string(), progress);
     // The parser streams: the bar advances as bytes are parsed, not just read.
     let mut reader = reader;
-    // Decoded data in huge pages when the binary's allocator is installed, as
-    // far as the file's size: values are kept no wider than 58b stores them,
-    // and ASCII text is longer than its values.
-    let expected = usize::try_from(len).unwrap_or(usize::MAX);
-    let parsed = crate::alloc::huge_pages_for_reading(expected, || {
-        frfup_parsers::uff::parse_reader(&mut reader)
-    });
+    let parsed = frfup_parsers::uff::parse_reader(&mut reader);
     reader.finish();
     parsed.map_err(|e| CommandError::input(format!("{}: {e}", path.display())))
 }
