@@ -148,7 +148,7 @@ def main():
         json.dump({"pyuff_version": pyuff.__version__, "files": fixtures()}, f, indent=1, sort_keys=True)
         f.write("\n")
     if not os.path.exists(os.path.join(EXPECTED, "uff_written.uff")):
-        print("no uff_written.uff yet: run UFF_BLESS=1 cargo test -p frfup-parsers --test uff_roundtrip")
+        print("no uff_written.uff yet: run UFF_BLESS=1 cargo test -p frfup-parsers --test all uff_roundtrip::")
         return
     with open(os.path.join(EXPECTED, "uff_written_pyuff.json"), "w") as f:
         json.dump({"pyuff_version": pyuff.__version__, **written()}, f, indent=1, sort_keys=True)

@@ -5,10 +5,7 @@
 //! (relative) and rounding error ≈ ε·‖K‖/h ≈ 2e-10·‖K‖, so differences are
 //! compared with 1e-8·‖K‖ (resp. ‖M‖) in the max norm.
 
-#[path = "model_common.rs"]
-mod common;
-
-use common::*;
+use crate::model_common::*;
 use frfup::model::{build, parameter_names, updated_deck, FeModel, ParameterValues};
 use frfup::parsers::deck::{parse, write};
 

@@ -3,10 +3,12 @@
 //! `frfup` binary's bump allocator, which never reuses a freed block, a fresh
 //! buffer per chunk made the peak memory the file plus the decoded data.)
 //!
-//! Its own test binary: the allocator below counts, on the calling thread,
-//! the allocations of exactly one chunk (an odd size nothing else asks for),
-//! larger than any dataset of the file (a buffer grown for a bigger dataset
-//! is freed by design).
+//! The allocator below (the global allocator of this test binary) counts, on
+//! the calling thread only, the allocations of exactly one chunk (an odd size
+//! nothing else asks for), larger than any dataset of the file (a buffer
+//! grown for a bigger dataset is freed by design). The count is per thread,
+//! so the other tests of the binary, each on its own thread, do not disturb it;
+//! for every other allocation it is the system allocator.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

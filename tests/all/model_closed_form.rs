@@ -7,10 +7,7 @@
 //! ρA·ρI ω⁴ − (κGA·ρI + ρA·EI)k²ω² − ρA·κGA ω² + κGA·EI k⁴ = 0, k = nπ/L);
 //! axial and torsional fixed–free bars (2n−1)π/(2L)·√(E/ρ), √(GJ/ρIp).
 
-#[path = "model_common.rs"]
-mod common;
-
-use common::*;
+use crate::model_common::*;
 use std::f64::consts::PI;
 
 const E: f64 = 2.1e11;

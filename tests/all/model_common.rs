@@ -1,5 +1,4 @@
-//! Shared helpers of the `model_*` integration tests (included with
-//! `#[path]`; as a test target of its own it has no tests).
+//! Shared helpers of the `model_*` test modules.
 #![allow(dead_code)]
 
 use frfup::model::{build, FeModel, ParameterValues, SparseMatrix};

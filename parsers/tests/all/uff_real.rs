@@ -11,7 +11,7 @@ fn fixtures() -> PathBuf {
 }
 
 fn expected() -> Value {
-    let text = include_str!("expected/uff_real.json");
+    let text = include_str!("../expected/uff_real.json");
     serde_json::from_str(text).expect("uff_real.json is valid JSON")
 }
 

@@ -7,8 +7,7 @@ use frfup::simulate::simulate;
 use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, UpdateError, UpdateOptions, UpdateWarning};
 
-mod campaign_support;
-use campaign_support::{band, z_campaign};
+use crate::campaign_support::{band, z_campaign};
 
 fn cantilever(extra: &str) -> Deck {
     let path =

@@ -5,8 +5,7 @@
 //! relative (the conditioning of A(ω) near resonances times ε); reciprocity
 //! holds to rounding (1e-10) because A(ω) is complex symmetric.
 
-mod solvers_support;
-
+use crate::solvers_support::*;
 use faer::c64;
 use frfup::model::Damping;
 use frfup::solvers::eigen::{lowest_modes, EigenOptions};
@@ -14,7 +13,6 @@ use frfup::solvers::frf::{
     direct_receptance, modal_receptance, static_residual, try_direct_receptance,
     try_modal_receptance, DirectFrf, FrfError,
 };
-use solvers_support::*;
 
 fn max_rel(a: &faer::Mat<c64>, b: &faer::Mat<c64>) -> f64 {
     let mut e = 0.0f64;

@@ -2,7 +2,7 @@
 //! ASCII/binary, byte-exact output, and pyuff's reading of a file we write
 //! (`tests/expected/uff_written.uff`, read by `scripts/uff_expected.py` into
 //! `tests/expected/uff_written_pyuff.json`). Regenerate the file with
-//! `UFF_BLESS=1 cargo test -p frfup-parsers --test uff_roundtrip`, then rerun
+//! `UFF_BLESS=1 cargo test -p frfup-parsers --test all uff_roundtrip::`, then rerun
 //! the script.
 
 use frfup_parsers::uff::{
@@ -394,7 +394,7 @@ fn number(v: &Value) -> f64 {
 
 #[test]
 fn pyuff_reads_our_file() {
-    let text = include_str!("expected/uff_written_pyuff.json");
+    let text = include_str!("../expected/uff_written_pyuff.json");
     let pyuff: Value = serde_json::from_str(text).expect("json");
     let ours = all_layouts();
     let sets = pyuff["functions"].as_array().expect("functions");

@@ -448,7 +448,7 @@ fn numbers_are_written_with_full_precision() {
 
 #[test]
 fn the_documentation_example_parses() {
-    let doc = include_str!("../../docs/deck.md");
+    let doc = include_str!("../../../docs/deck.md");
     let start = doc.find("```text\n").unwrap() + 8;
     let end = start + doc[start..].find("```").unwrap();
     let d = parse(&doc[start..end]).unwrap();

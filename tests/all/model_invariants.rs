@@ -2,10 +2,7 @@
 //! symmetry, the orientation rule (static tip flexibilities), the sign of ry
 //! in a plane analysis, plane vs space agreement, springs and masses.
 
-#[path = "model_common.rs"]
-mod common;
-
-use common::*;
+use crate::model_common::*;
 use frfup::model::{build, Dof, FeModel, ModelError, ParameterValues};
 use nalgebra::{DVector, Vector3};
 use std::f64::consts::PI;

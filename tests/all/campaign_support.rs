@@ -1,5 +1,4 @@
-//! Shared helper of the integration tests that simulate "measured" campaigns
-//! (included with `mod campaign_support;`).
+//! Shared helper of the test modules that simulate "measured" campaigns.
 #![allow(dead_code)]
 
 use frfup::simulate::{Band, Campaign, NodeDirection, Sensors};

@@ -14,10 +14,8 @@ use frfup::simulate::{simulate, Gaussian};
 use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, UpdateOptions, UpdateResult};
 
-mod campaign_support;
-mod png_support;
-use campaign_support::{band, z_campaign};
-use png_support::{render_and_check, rsvg_available};
+use crate::campaign_support::{band, z_campaign};
+use crate::png_support::{render_and_check, rsvg_available};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -224,7 +222,7 @@ fn every_chart_renders_to_a_png() {
 }
 
 /// The GARTEUR-like campaign (26 channels, 20 parameters, free-free): a large
-/// report to look at. `cargo test --test report_render -- --ignored`.
+/// report to look at. `cargo test --test all report_render:: -- --ignored`.
 #[test]
 #[ignore = "slow: a full GARTEUR update"]
 fn garteur_report() {

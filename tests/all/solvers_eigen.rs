@@ -6,12 +6,10 @@
 //! paths to 1e-9 relative in ω² (both Rayleigh quotients of converged
 //! vectors).
 
-mod solvers_support;
-
+use crate::solvers_support::*;
 use frfup::solvers::eigen::{
     lowest_modes, lowest_modes_with, EigenError, EigenOptions, EigenPath, EigenTuning,
 };
-use solvers_support::*;
 
 fn opts(count: usize, dense: bool, fixed: bool) -> EigenOptions {
     EigenOptions {

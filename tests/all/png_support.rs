@@ -4,7 +4,9 @@
 use std::path::Path;
 use std::process::Command;
 
-/// True when `rsvg-convert` runs; otherwise prints why the rendering is skipped.
+/// True when `rsvg-convert` runs. When it does not, a developer's run skips
+/// the rendering with a note, but under CI (`CI=true`, as `.ci/run` sets it)
+/// the test fails: a chart check that silently does nothing is not a check.
 pub fn rsvg_available() -> bool {
     let ok = Command::new("rsvg-convert")
         .arg("--version")
@@ -12,6 +14,11 @@ pub fn rsvg_available() -> bool {
         .map(|o| o.status.success())
         .unwrap_or(false);
     if !ok {
+        let under_ci = std::env::var("CI").is_ok_and(|v| v == "true");
+        assert!(
+            !under_ci,
+            "rsvg-convert not found under CI=true: install librsvg2-bin (.ci/run does)"
+        );
         eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
     }
     ok

@@ -12,8 +12,7 @@ use frfup::parsers::deck::Deck;
 use frfup::report::diagnosis::write_outputs;
 use frfup::testdata::MeasuredFrfs;
 
-mod png_support;
-use png_support::{render_and_check, rsvg_available};
+use crate::png_support::{render_and_check, rsvg_available};
 
 fn load(case: &str) -> (Deck, MeasuredFrfs) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/diagnose");

@@ -11,8 +11,7 @@ use frfup::simulate::{simulate, Band, Gaussian};
 use frfup::testdata::MeasuredFrfs;
 use frfup::updating::{update, FrfWeighting, UpdateOptions, UpdateResult};
 
-mod campaign_support;
-use campaign_support::z_campaign;
+use crate::campaign_support::z_campaign;
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -285,7 +284,7 @@ fn frame3d_table4_noise_1_and_5_percent() {
 
 /// The paper's Table 4 gives one noise realisation; this spreads ours over
 /// 40 seeds: median and 90th percentile of the largest parameter error. Run
-/// with `cargo test --release --test updating_paper -- --ignored --nocapture`.
+/// with `cargo test --release --test all updating_paper:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn frame3d_noise_statistics() {

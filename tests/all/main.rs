@@ -1,0 +1,26 @@
+//! The integration tests of `frfup`, one test binary (one link of the
+//! numerical dependencies instead of one per file): each module is one
+//! former `tests/*.rs` file, its tests named `module::test`. Run one module
+//! with `cargo test --test all module::`.
+
+mod campaign_support;
+mod model_common;
+mod png_support;
+mod solvers_support;
+
+mod cli_batch;
+mod cli_demo;
+mod cli_model;
+mod cli_uff;
+mod diagnose_cases;
+mod hostile_inputs;
+mod model_closed_form;
+mod model_derivatives;
+mod model_invariants;
+mod random_benchmark;
+mod report_render;
+mod report_status;
+mod solvers_eigen;
+mod solvers_frf;
+mod updating_hard_cases;
+mod updating_paper;
