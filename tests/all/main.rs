@@ -14,6 +14,7 @@ mod cli_model;
 mod cli_uff;
 mod diagnose_cases;
 mod hostile_inputs;
+mod layering;
 mod model_closed_form;
 mod model_derivatives;
 mod model_invariants;
