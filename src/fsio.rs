@@ -244,31 +244,19 @@ pub fn remove_temporaries() {
 
 /// On SIGINT or SIGTERM, remove the temporaries being written and exit with
 /// 128 + the signal's number, as the shell reports a killed process. Call it
-/// first in `main`, before any other thread starts: the two signals are
-/// blocked in every thread and taken by one thread with `sigwait` (no work
-/// in a signal handler; `libc` is already a dependency).
+/// first in `main`: the handlers (`signal-hook`) only wake one thread, which
+/// does the work outside any signal handler.
 pub fn remove_temporaries_on_signals() {
-    // SAFETY: sigset_t is plain data initialised by sigemptyset/sigaddset;
-    // pthread_sigmask and sigwait only read it.
-    unsafe {
-        let mut set: libc::sigset_t = std::mem::zeroed();
-        libc::sigemptyset(&mut set);
-        libc::sigaddset(&mut set, libc::SIGINT);
-        libc::sigaddset(&mut set, libc::SIGTERM);
-        if libc::pthread_sigmask(libc::SIG_BLOCK, &set, std::ptr::null_mut()) != 0 {
-            return;
-        }
-        let spawned = std::thread::Builder::new()
-            .name("signals".into())
-            .spawn(move || {
-                let mut sig: libc::c_int = 0;
-                if libc::sigwait(&set, &mut sig) == 0 {
-                    remove_temporaries();
-                    std::process::exit(128 + sig);
-                }
-            });
-        if spawned.is_err() {
-            libc::pthread_sigmask(libc::SIG_UNBLOCK, &set, std::ptr::null_mut());
-        }
-    }
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM]) else {
+        return;
+    };
+    let _ = std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            if let Some(sig) = signals.forever().next() {
+                remove_temporaries();
+                std::process::exit(128 + sig);
+            }
+        });
 }

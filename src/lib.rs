@@ -25,6 +25,9 @@
 
 // Checks are written `!(x >= limit)` on purpose: a NaN must fail them.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
+// No unsafe code; a kernel of `solvers` that needs some allows it there,
+// with the reason it is sound.
+#![deny(unsafe_code)]
 
 pub use frfup_parsers as parsers;
 

@@ -2,6 +2,8 @@
 //! errors into messages and exit codes (0 fine, 1 a threshold failed, 2 bad
 //! input or usage).
 
+#![forbid(unsafe_code)]
+
 use std::path::PathBuf;
 use std::process::ExitCode;
 
