@@ -319,7 +319,7 @@ pub fn to_uff_records(
             numerator_axis: axis(frfs.kind.uff_data_type(), 1, 0, label, units),
             denominator_axis: axis(13, 0, 1, "Force", "N"),
             z_axis: axis(0, 0, 0, "NONE", "NONE"),
-            ordinate: Ordinate::Complex(ch.values.iter().map(|v| (v.re, v.im)).collect()),
+            ordinate: Ordinate::Complex(ch.values.clone()),
             binary,
         })
         .collect()

@@ -5,7 +5,7 @@
 
 use std::io::BufWriter;
 
-use frfup_parsers::uff::{self, Abscissa, AxisCharacteristics, Function58, Ordinate};
+use frfup_parsers::uff::{self, Abscissa, AxisCharacteristics, Complex64, Function58, Ordinate};
 
 fn axis(data_type: i32, l: i32, f: i32, label: &str, units: &str) -> AxisCharacteristics {
     AxisCharacteristics {
@@ -21,16 +21,16 @@ fn axis(data_type: i32, l: i32, f: i32, label: &str, units: &str) -> AxisCharact
 /// An FRF with a few modes, deterministic.
 fn channel(k: usize, lines: usize, binary: bool) -> Function58 {
     let modes = [(31.0, 0.02), (87.5, 0.015), (143.0, 0.01), (402.0, 0.02)];
-    let ordinate: Vec<(f64, f64)> = (0..lines)
+    let ordinate: Vec<Complex64> = (0..lines)
         .map(|i| {
             let f = i as f64 * 0.25;
-            let mut h = (0.0, 0.0);
+            let mut h = Complex64::new(0.0, 0.0);
             for (m, &(fm, z)) in modes.iter().enumerate() {
                 let phi = ((k + 1) as f64 * (m + 1) as f64 * 0.37).sin();
                 let (re, im) = (fm * fm - f * f, 2.0 * z * fm * f);
                 let d = re * re + im * im;
-                h.0 += -f * f * phi * re / d;
-                h.1 += f * f * phi * im / d;
+                h.re += -f * f * phi * re / d;
+                h.im += f * f * phi * im / d;
             }
             h
         })

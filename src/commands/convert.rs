@@ -299,9 +299,7 @@ fn converted_records(
                     } else {
                         6
                     };
-                    f.ordinate = Ordinate::Complex(
-                        c.channels[i].values.iter().map(|v| (v.re, v.im)).collect(),
-                    );
+                    f.ordinate = Ordinate::Complex(c.channels[i].values.clone());
                 }
                 (None, None) => {}
             }

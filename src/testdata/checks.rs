@@ -135,12 +135,12 @@ fn implausible_values(f: &Function58) -> Option<String> {
         Ordinate::Real(v) => extremes(v.iter().copied(), |x| {
             f64::from_bits(x.to_bits().swap_bytes())
         }),
-        Ordinate::Complex(v) => extremes(v.iter().flat_map(|&(a, b)| [a, b]), |x| {
+        Ordinate::Complex(v) => extremes(v.iter().flat_map(|c| [c.re, c.im]), |x| {
             f64::from_bits(x.to_bits().swap_bytes())
         }),
         Ordinate::RealSingle(v) => extremes(v.iter().map(|&x| f64::from(x)), swap32),
         Ordinate::ComplexSingle(v) => extremes(
-            v.iter().flat_map(|&(a, b)| [f64::from(a), f64::from(b)]),
+            v.iter().flat_map(|c| [f64::from(c.re), f64::from(c.im)]),
             swap32,
         ),
     };

@@ -271,7 +271,7 @@ fn g_based_accelerance_is_converted_to_si() {
         r.numerator_axis.units_label = "g".into();
         if let frfup_parsers::uff::Ordinate::Complex(v) = &mut r.ordinate {
             for p in v.iter_mut() {
-                *p = (p.0 / g, p.1 / g);
+                *p /= g;
             }
         }
     }

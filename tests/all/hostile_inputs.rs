@@ -424,7 +424,7 @@ fn a_58b_record_read_in_the_wrong_byte_order_is_named() {
     let n = f.len();
     f.ordinate = Ordinate::Complex(
         (0..n)
-            .map(|i| (swap(1e-3 * (1.0 + i as f64 / n as f64)), swap(2e-3)))
+            .map(|i| uff::Complex64::new(swap(1e-3 * (1.0 + i as f64 / n as f64)), swap(2e-3)))
             .collect(),
     );
     f.binary = true;

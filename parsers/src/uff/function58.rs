@@ -17,7 +17,8 @@
 
 use super::split::{Binary, Block};
 use super::text::{self, Lines};
-use super::{Abscissa, AxisCharacteristics, Function58, Ordinate, UffError};
+use super::{Abscissa, AxisCharacteristics, Complex64, Function58, Ordinate, UffError};
+use num_complex::Complex;
 
 /// Record 7 of dataset 58.
 #[derive(Clone, Debug, PartialEq)]
@@ -349,7 +350,7 @@ struct Sink {
     pending: f64,
     x: Vec<f64>,
     real: Vec<f64>,
-    pairs: Vec<(f64, f64)>,
+    pairs: Vec<Complex64>,
 }
 
 impl Sink {
@@ -388,7 +389,7 @@ impl Sink {
                 self.pending = v;
                 self.phase = 1;
             } else {
-                self.pairs.push((self.pending, v));
+                self.pairs.push(Complex64::new(self.pending, v));
                 self.phase = 0;
             }
             return;
@@ -407,7 +408,7 @@ impl Sink {
                 self.phase = 2;
             }
             _ => {
-                self.pairs.push((self.pending, v));
+                self.pairs.push(Complex64::new(self.pending, v));
                 self.phase = 0;
             }
         }
@@ -419,9 +420,8 @@ impl Sink {
         if self.even && !self.complex {
             self.real.extend_from_slice(values);
         } else if self.even && self.phase == 0 {
-            let pairs = values.chunks_exact(2);
-            let rest = pairs.remainder();
-            self.pairs.extend(pairs.map(|c| (c[0], c[1])));
+            let (pairs, rest) = values.split_at(values.len() & !1);
+            self.pairs.extend_from_slice(bytemuck::cast_slice(pairs));
             for &v in rest {
                 self.push(v);
             }
@@ -592,7 +592,7 @@ trait Raw {
     fn get(c: &[u8]) -> Self::Value;
     /// Real and complex ordinates of this precision.
     fn real(v: Vec<Self::Value>) -> Ordinate;
-    fn complex(v: Vec<(Self::Value, Self::Value)>) -> Ordinate;
+    fn complex(v: Vec<Complex<Self::Value>>) -> Ordinate;
 }
 
 macro_rules! raw {
@@ -610,7 +610,7 @@ macro_rules! raw {
             fn real(v: Vec<$t>) -> Ordinate {
                 Ordinate::$real(v)
             }
-            fn complex(v: Vec<($t, $t)>) -> Ordinate {
+            fn complex(v: Vec<Complex<$t>>) -> Ordinate {
                 Ordinate::$complex(v)
             }
         }
@@ -626,7 +626,7 @@ fn even<R: Raw>(data: &[u8], complex: bool) -> Ordinate {
     if complex {
         R::complex(
             data.chunks_exact(2 * R::SIZE)
-                .map(|c| (R::get(c), R::get(&c[R::SIZE..])))
+                .map(|c| Complex::new(R::get(c), R::get(&c[R::SIZE..])))
                 .collect(),
         )
     } else {
@@ -643,7 +643,7 @@ fn uneven<X: Raw, R: Raw>(data: &[u8], complex: bool) -> (Abscissa, Ordinate) {
     let ordinate = if complex {
         R::complex(
             points
-                .map(|c| (R::get(&c[X::SIZE..]), R::get(&c[X::SIZE + R::SIZE..])))
+                .map(|c| Complex::new(R::get(&c[X::SIZE..]), R::get(&c[X::SIZE + R::SIZE..])))
                 .collect(),
         )
     } else {
@@ -762,47 +762,14 @@ fn check_finite(
     Ok((abscissa, ordinate))
 }
 
-/// Floating-point storage whose memory may be viewed, and written, as bytes.
-///
-/// # Safety
-/// Implementors are exactly `size_of::<Self>()` bytes of value bits: no
-/// padding, and every bit pattern is a valid value.
-unsafe trait FloatBits: Copy {}
-// SAFETY: IEEE 754 types: no padding, any bits are a value (NaNs included).
-unsafe impl FloatBits for f32 {}
-// SAFETY: as for f32.
-unsafe impl FloatBits for f64 {}
-// Tuples have no guaranteed layout: these pairs are checked, at compile
-// time, to be two fields back to back, `.0` first (the file's order).
-const _: () = {
-    use std::mem::{offset_of, size_of};
-    assert!(size_of::<(f32, f32)>() == 8);
-    assert!(offset_of!((f32, f32), 0) == 0 && offset_of!((f32, f32), 1) == 4);
-    assert!(size_of::<(f64, f64)>() == 16);
-    assert!(offset_of!((f64, f64), 0) == 0 && offset_of!((f64, f64), 1) == 8);
-};
-// SAFETY: two f32 back to back, no padding (checked above).
-unsafe impl FloatBits for (f32, f32) {}
-// SAFETY: two f64 back to back, no padding (checked above).
-unsafe impl FloatBits for (f64, f64) {}
-
-/// The memory of `v` as bytes, to be filled with stored values.
-fn bytes_of_mut<T: FloatBits>(v: &mut [T]) -> &mut [u8] {
-    // SAFETY: the bytes are exactly `v`'s memory (size_of_val), borrowed
-    // mutably for as long as the result; u8 needs no alignment; `T` has no
-    // padding and accepts any bits (FloatBits), so whatever is written
-    // leaves valid values.
-    unsafe { std::slice::from_raw_parts_mut(v.as_mut_ptr().cast::<u8>(), std::mem::size_of_val(v)) }
-}
-
 /// The memory of the values of `o` as bytes, in file order (for a complex
-/// ordinate: re, im, re, im, ...).
+/// ordinate: re, im, re, im, ...; `Complex` is `#[repr(C)]`).
 fn ordinate_bytes_mut(o: &mut Ordinate) -> &mut [u8] {
     match o {
-        Ordinate::Real(v) => bytes_of_mut(v),
-        Ordinate::Complex(v) => bytes_of_mut(v),
-        Ordinate::RealSingle(v) => bytes_of_mut(v),
-        Ordinate::ComplexSingle(v) => bytes_of_mut(v),
+        Ordinate::Real(v) => bytemuck::cast_slice_mut(v),
+        Ordinate::Complex(v) => bytemuck::cast_slice_mut(v),
+        Ordinate::RealSingle(v) => bytemuck::cast_slice_mut(v),
+        Ordinate::ComplexSingle(v) => bytemuck::cast_slice_mut(v),
     }
 }
 
@@ -814,10 +781,10 @@ fn ordinate_bytes_mut(o: &mut Ordinate) -> &mut [u8] {
 pub(crate) fn direct_storage(r7: &Record7) -> Ordinate {
     let n = r7.points;
     match (r7.value_bytes(), r7.is_complex()) {
-        (4, false) => Ordinate::RealSingle(vec![0.0; n]),
-        (4, true) => Ordinate::ComplexSingle(vec![(0.0, 0.0); n]),
-        (_, false) => Ordinate::Real(vec![0.0; n]),
-        (_, true) => Ordinate::Complex(vec![(0.0, 0.0); n]),
+        (4, false) => Ordinate::RealSingle(bytemuck::zeroed_vec(n)),
+        (4, true) => Ordinate::ComplexSingle(bytemuck::zeroed_vec(n)),
+        (_, false) => Ordinate::Real(bytemuck::zeroed_vec(n)),
+        (_, true) => Ordinate::Complex(bytemuck::zeroed_vec(n)),
     }
 }
 

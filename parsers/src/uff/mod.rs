@@ -31,6 +31,9 @@ pub use units::{
 };
 pub use write::{write_function, write_functions_with, ByteOrder, WriteOptions};
 
+/// The complex values of [`Ordinate::Complex`] and [`Ordinate::ComplexSingle`].
+pub use num_complex::{Complex32, Complex64};
+
 /// CONTRACT. A whole parsed file.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct UffFile {
@@ -79,11 +82,11 @@ pub enum Ordinate {
     /// Ordinate type 2 (single) or 4 (double).
     Real(Vec<f64>),
     /// Ordinate type 5 (single) or 6 (double): (re, im) pairs.
-    Complex(Vec<(f64, f64)>),
+    Complex(Vec<Complex64>),
     /// Ordinate type 2 from 58b binary: the stored single-precision values.
     RealSingle(Vec<f32>),
     /// Ordinate type 5 from 58b binary: the stored single-precision pairs.
-    ComplexSingle(Vec<(f32, f32)>),
+    ComplexSingle(Vec<Complex32>),
 }
 
 impl Ordinate {
@@ -109,9 +112,9 @@ impl Ordinate {
     pub fn at(&self, i: usize) -> (f64, f64) {
         match self {
             Ordinate::Real(v) => (v[i], 0.0),
-            Ordinate::Complex(v) => v[i],
+            Ordinate::Complex(v) => (v[i].re, v[i].im),
             Ordinate::RealSingle(v) => (f64::from(v[i]), 0.0),
-            Ordinate::ComplexSingle(v) => (f64::from(v[i].0), f64::from(v[i].1)),
+            Ordinate::ComplexSingle(v) => (f64::from(v[i].re), f64::from(v[i].im)),
         }
     }
     /// Bytes the values occupy in memory.

@@ -14,7 +14,7 @@ use super::geometry::{self, CoordinateSystem, Node, Part, TraceLine};
 use super::split::Block;
 use super::text::{self, Line, Lines};
 use super::units::{self, Units164};
-use super::{Ordinate, OtherDataset, UffError};
+use super::{Complex64, Ordinate, OtherDataset, UffError};
 
 /// Typed content of a dataset other than 58.
 #[derive(Clone, Debug, PartialEq)]
@@ -219,7 +219,11 @@ fn nodal_data55(lines: &[Line<'_>]) -> Result<NodalData55, Failure> {
         k += 1;
         let v = reals_over_lines(lines, &mut k, per_node, 13, "node values (6E13.5)")?;
         let values = if complex {
-            Ordinate::Complex(v.chunks_exact(2).map(|c| (c[0], c[1])).collect())
+            Ordinate::Complex(
+                v.chunks_exact(2)
+                    .map(|c| Complex64::new(c[0], c[1]))
+                    .collect(),
+            )
         } else {
             Ordinate::Real(v)
         };

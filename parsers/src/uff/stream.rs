@@ -513,8 +513,8 @@ fn parse_counted<R: Read>(
 mod direct_tests {
     use super::parse_counted;
     use crate::uff::{
-        parse, write_functions_with, Abscissa, AxisCharacteristics, ByteOrder, Dataset, Function58,
-        Ordinate, WriteOptions,
+        parse, write_functions_with, Abscissa, AxisCharacteristics, ByteOrder, Complex32,
+        Complex64, Dataset, Function58, Ordinate, WriteOptions,
     };
 
     /// An even 58b function of `points` points (ordinate type 2, 4, 5 or 6).
@@ -530,10 +530,14 @@ mod direct_tests {
             2 => Ordinate::RealSingle((0..points).map(|i| v(i) as f32).collect()),
             5 => Ordinate::ComplexSingle(
                 (0..points)
-                    .map(|i| (v(i) as f32, v(i + 1) as f32))
+                    .map(|i| Complex32::new(v(i) as f32, v(i + 1) as f32))
                     .collect(),
             ),
-            6 => Ordinate::Complex((0..points).map(|i| (v(i), v(i + 1))).collect()),
+            6 => Ordinate::Complex(
+                (0..points)
+                    .map(|i| Complex64::new(v(i), v(i + 1)))
+                    .collect(),
+            ),
             _ => Ordinate::Real((0..points).map(v).collect()),
         };
         Function58 {

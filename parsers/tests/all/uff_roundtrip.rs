@@ -6,7 +6,8 @@
 //! the script.
 
 use frfup_parsers::uff::{
-    self, Abscissa, AxisCharacteristics, ByteOrder, Dataset, Function58, Ordinate, WriteOptions,
+    self, Abscissa, AxisCharacteristics, ByteOrder, Complex64, Dataset, Function58, Ordinate,
+    WriteOptions,
 };
 use serde_json::Value;
 
@@ -42,7 +43,7 @@ fn function(ordinate_type: i32, even: bool, binary: bool, n: usize) -> Function5
     } else {
         Ordinate::Complex(
             (0..n)
-                .map(|i| (value(i, 0, double), value(i, 1, double)))
+                .map(|i| Complex64::new(value(i, 0, double), value(i, 1, double)))
                 .collect(),
         )
     };
@@ -341,7 +342,7 @@ fn parallel_parse_equals_one_by_one() {
 #[test]
 fn writer_rejects_what_it_cannot_write() {
     let mut f = function(5, true, false, 3);
-    f.ordinate = Ordinate::Complex(vec![(1.0, f64::NAN); 3]);
+    f.ordinate = Ordinate::Complex(vec![Complex64::new(1.0, f64::NAN); 3]);
     assert!(uff::write_functions(&mut Vec::new(), &[f]).is_err());
     let mut f = function(2, true, false, 3);
     f.ordinate_type = 6;

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use frfup_parsers::uff::{self, Abscissa, AxisCharacteristics, Function58, Ordinate};
+use frfup_parsers::uff::{self, Abscissa, AxisCharacteristics, Complex64, Function58, Ordinate};
 
 fn fixtures() -> Vec<PathBuf> {
     let root = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/uff-real"));
@@ -113,7 +113,11 @@ fn function(k: usize, points: usize, binary: bool, ordinate_type: i32) -> Functi
     };
     let v = |i: usize| ((i * 7 + k) as f64 * 0.37).sin() * 10f64.powi((i % 9) as i32 - 4);
     let ordinate = if matches!(ordinate_type, 5 | 6) {
-        Ordinate::Complex((0..points).map(|i| (v(i), v(i + 1))).collect())
+        Ordinate::Complex(
+            (0..points)
+                .map(|i| Complex64::new(v(i), v(i + 1)))
+                .collect(),
+        )
     } else {
         Ordinate::Real((0..points).map(v).collect())
     };
