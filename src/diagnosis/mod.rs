@@ -28,7 +28,7 @@ use crate::updating::{self, UpdateOptions};
 use data::TestData;
 use fit::{DampingForm, DampingState, Mask};
 use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
-use select::{Engine, HypFit};
+use select::{Engine, FitRequest, HypFit, LogSearch};
 
 pub use crate::updating::fullband::{data, fit};
 
@@ -211,16 +211,11 @@ pub fn diagnose(
     // Polish the deck's parameters on all lines and channels (the paper's
     // update uses a few updating frequencies only).
     if !opts.skip_update && !deck.params.is_empty() {
-        if let Some(f0) = engine.fit(
-            None,
+        if let Some(f0) = engine.fit(&FitRequest::damping(
             &updated_deck,
             &start_damping,
             &engine.all,
-            None,
-            0,
-            0,
-            false,
-        ) {
+        )) {
             if let Some((values, _, c)) = fit::fit_deck_parameters(
                 deck,
                 &updated_parameters,
@@ -239,19 +234,14 @@ pub fn diagnose(
     }
     // Keep the update only if it does not worsen the damping-profiled fit.
     let c_init = engine
-        .fit(None, deck, &start_damping, &engine.all, None, 0, 0, false)
+        .fit(&FitRequest::damping(deck, &start_damping, &engine.all))
         .map_or(f64::INFINITY, |f| f.cost);
     let c_upd = engine
-        .fit(
-            None,
+        .fit(&FitRequest::damping(
             &updated_deck,
             &start_damping,
             &engine.all,
-            None,
-            0,
-            0,
-            false,
-        )
+        ))
         .map_or(f64::INFINITY, |f| f.cost);
     if c_upd > c_init * 1.02 && updated_deck != *deck {
         updated_deck = deck.clone();
@@ -303,7 +293,7 @@ pub fn diagnose(
             .map(|(v, _, _)| v);
             if let Some(values) = polished {
                 let cand = model::updated_deck(&ext, &values);
-                if let Some(f) = engine.fit(None, &cand, &g.damp, &engine.all, None, 0, 0, false) {
+                if let Some(f) = engine.fit(&FitRequest::damping(&cand, &g.damp, &engine.all)) {
                     if f.cost < g.cost {
                         g.current = cand;
                         g.damp = f.damping.clone();
@@ -342,10 +332,10 @@ pub fn diagnose(
     // for them: choose it again on the extended model.
     if let Some((d2, _)) = select::choose_damping(&engine, &current, deck_form.clone(), zeta0) {
         let c_now = engine
-            .fit(None, &current, &damp, &engine.all, None, 0, 0, false)
+            .fit(&FitRequest::damping(&current, &damp, &engine.all))
             .map_or(f64::INFINITY, |f| f.cost);
         let c_new = engine
-            .fit(None, &current, &d2, &engine.all, None, 0, 0, false)
+            .fit(&FitRequest::damping(&current, &d2, &engine.all))
             .map_or(f64::INFINITY, |f| f.cost);
         if c_new <= c_now
             || d2.form == deck_form.as_ref().map_or(DampingForm::Modal, |d| d.0)
@@ -360,7 +350,10 @@ pub fn diagnose(
     // Damping: a finding when the deck has none, or when the fitted damping
     // predicts held-out data better than the deck's.
     let final_fit = engine
-        .fit(None, &current, &damp, &engine.all, None, 0, 0, true)
+        .fit(&FitRequest {
+            with_std: true,
+            ..FitRequest::damping(&current, &damp, &engine.all)
+        })
         .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
     damp = final_fit.damping.clone();
     let v_fitted = engine.validate(None, &current, &final_fit);
@@ -460,7 +453,7 @@ fn greedy(
     let Some((mut damp, _forms)) = select::choose_damping(engine, start, deck_form, zeta0) else {
         return Ok(None);
     };
-    let Some(base_fit) = engine.fit(None, start, &damp, &engine.all, None, 0, 0, false) else {
+    let Some(base_fit) = engine.fit(&FitRequest::damping(start, &damp, &engine.all)) else {
         return Ok(None);
     };
     // The deck the accepted extensions are applied to: `start`, with the
@@ -670,7 +663,7 @@ fn greedy(
                 .find(|x| x.0 == d2.form)
                 .map_or(f64::INFINITY, |x| x.1);
             if d2.form != damp.form && c2 < cost {
-                if let Some(bf) = engine.fit(None, &current, &d2, &engine.all, None, 0, 0, false) {
+                if let Some(bf) = engine.fit(&FitRequest::damping(&current, &d2, &engine.all)) {
                     damp = bf.damping.clone();
                     cost = bf.cost;
                     v_cur = engine.validate(None, &current, &bf);
@@ -996,7 +989,12 @@ fn search_round(
                         continue;
                     }
                     engine.damping_iterations.set(3);
-                    let f = engine.fit(Some(&h), current, damp, &engine.all, None, 5, 3, false);
+                    let f = engine.fit(&FitRequest {
+                        hypothesis: Some(&h),
+                        search: LogSearch::over_bounds(5, 3),
+                        with_std: false,
+                        ..FitRequest::damping(current, damp, &engine.all)
+                    });
                     engine.damping_iterations.set(10);
                     if let Some(f) = f {
                         pairs.push((f.cost, h));
@@ -1017,7 +1015,12 @@ fn search_round(
     let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
         .into_iter()
         .filter_map(|h| {
-            let grid = engine.fit(Some(&h), current, damp, &engine.all, None, 9, 10, true);
+            let grid = engine.fit(&FitRequest {
+                hypothesis: Some(&h),
+                search: LogSearch::over_bounds(9, 10),
+                with_std: true,
+                ..FitRequest::damping(current, damp, &engine.all)
+            });
             // Small models: also from the resonance-frequency stage, which
             // finds the basin a coarse grid on the FRF misfit can miss.
             let seeded = if large || h.param.is_none() {
@@ -1035,7 +1038,7 @@ fn search_round(
     fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
     let base_cost = fit::mean_sq(&r0).min(
         engine
-            .fit(None, current, damp, &engine.all, None, 0, 0, false)
+            .fit(&FitRequest::damping(current, damp, &engine.all))
             .map_or(f64::INFINITY, |f| f.cost),
     );
     // The deck's own parameters may have absorbed part of the missing

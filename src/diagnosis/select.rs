@@ -64,6 +64,66 @@ pub fn folds(data: &TestData) -> Vec<(Mask, Mask)> {
     out
 }
 
+/// How the log parameter ln θ of a hypothesis is searched: `grid` evenly
+/// spaced points over `bracket` (`None`: the parameter's bounds; always
+/// clipped to them), then `golden` golden-section steps around the best.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LogSearch {
+    pub bracket: Option<(f64, f64)>,
+    pub grid: usize,
+    pub golden: usize,
+}
+
+impl LogSearch {
+    /// No search: for fits without a parameter (the damping alone, or an
+    /// extension without a parameter).
+    pub const NONE: LogSearch = LogSearch {
+        bracket: None,
+        grid: 0,
+        golden: 0,
+    };
+
+    /// `grid` points over the parameter's bounds, then `golden` steps.
+    pub fn over_bounds(grid: usize, golden: usize) -> LogSearch {
+        LogSearch {
+            bracket: None,
+            grid,
+            golden,
+        }
+    }
+}
+
+/// One fit by [`Engine::fit`].
+#[derive(Clone, Copy)]
+pub struct FitRequest<'r> {
+    /// The extension fitted; `None`: the deck as it is (its damping only).
+    pub hypothesis: Option<&'r Hypothesis>,
+    /// The deck the extension is applied to.
+    pub base: &'r Deck,
+    /// Where the damping profile starts.
+    pub damping: &'r DampingState,
+    /// The lines and channels fitted.
+    pub mask: &'r Mask,
+    /// How the hypothesis's parameter is searched (ignored without one).
+    pub search: LogSearch,
+    /// Also compute the standard deviations (one Jacobian more).
+    pub with_std: bool,
+}
+
+impl<'r> FitRequest<'r> {
+    /// The damping of `base` alone on `mask`, without standard deviations.
+    pub fn damping(base: &'r Deck, damping: &'r DampingState, mask: &'r Mask) -> Self {
+        FitRequest {
+            hypothesis: None,
+            base,
+            damping,
+            mask,
+            search: LogSearch::NONE,
+            with_std: false,
+        }
+    }
+}
+
 /// The fitting engine over one test.
 pub struct Engine<'a> {
     pub data: &'a TestData,
@@ -94,83 +154,127 @@ impl<'a> Engine<'a> {
         Ok(mm)
     }
 
-    /// Damping-profiled cost at log-parameter `s` (or with no parameter).
+    /// Damping-profiled cost of `req`'s hypothesis at log-parameter `s` (or
+    /// with no parameter), the damping profile starting from `damp`.
     fn profile(
         &self,
-        hyp: Option<&Hypothesis>,
-        base: &Deck,
+        req: &FitRequest,
         s: Option<f64>,
         damp: &DampingState,
-        mask: &Mask,
     ) -> Option<(f64, DampingState, ModalModel)> {
-        let deck = match hyp {
-            Some(h) => h.apply(base, s.map(f64::exp)),
-            None => base.clone(),
+        let deck = match req.hypothesis {
+            Some(h) => h.apply(req.base, s.map(f64::exp)),
+            None => req.base.clone(),
         };
         let mm = self.model(&deck).ok()?;
-        let (d, r) = fit::fit_damping(&mm, damp, self.data, mask, self.damping_iterations.get());
+        let (d, r) = fit::fit_damping(
+            &mm,
+            damp,
+            self.data,
+            req.mask,
+            self.damping_iterations.get(),
+        );
         let c = fit::mean_sq(&r);
         c.is_finite().then_some((c, d, mm))
     }
 
-    /// Fit `hyp` (or only the damping of `base`) on `mask`. `bracket`: log
-    /// range searched (default the parameter's bounds) with `grid` points.
-    #[allow(clippy::too_many_arguments)]
-    pub fn fit(
-        &self,
-        hyp: Option<&Hypothesis>,
-        base: &Deck,
-        damp: &DampingState,
-        mask: &Mask,
-        bracket: Option<(f64, f64)>,
-        grid: usize,
-        golden: usize,
-        with_std: bool,
-    ) -> Option<HypFit> {
-        let spec = hyp.and_then(|h| h.param.as_ref());
-        let Some(spec) = spec else {
-            let (cost, d, mm) = self.profile(hyp, base, None, damp, mask)?;
-            let damping_std_log = if with_std {
-                self.damping_std(&mm, &d, mask)
-            } else {
-                vec![]
-            };
-            return Some(HypFit {
-                value: None,
-                log_value: None,
-                damping: d,
-                cost,
-                std: None,
-                damping_std_log,
-                on_bound: false,
-                deck_values: Default::default(),
-            });
+    /// Fit `req.hypothesis` (or only the damping of `req.base`) on
+    /// `req.mask`: the damping profile alone when there is no parameter, else
+    /// a grid over the log parameter's bracket refined by golden section.
+    pub fn fit(&self, req: &FitRequest) -> Option<HypFit> {
+        let Some(spec) = req.hypothesis.and_then(|h| h.param.as_ref()) else {
+            return self.fit_damping_only(req);
         };
         let (blo, bhi) = (spec.lo.ln(), spec.hi.ln());
-        let (lo, hi) = bracket
+        let (s, cost, d) = self.search_log_parameter(req, blo, bhi)?;
+        let span = bhi - blo;
+        let on_bound = s - blo < 0.02 * span || bhi - s < 0.02 * span;
+        let (std, damping_std_log) = if req.with_std {
+            self.joint_std(req, s, &d)
+                .unwrap_or((f64::INFINITY, vec![]))
+        } else {
+            (f64::NAN, vec![])
+        };
+        Some(HypFit {
+            value: Some(s.exp()),
+            log_value: Some(s),
+            damping: d,
+            cost,
+            std: Some(std * s.exp()),
+            damping_std_log,
+            on_bound,
+            deck_values: Default::default(),
+        })
+    }
+
+    /// The fit of a request without a parameter: the damping profile of the
+    /// deck (with the extension applied, if any).
+    fn fit_damping_only(&self, req: &FitRequest) -> Option<HypFit> {
+        let (cost, d, mm) = self.profile(req, None, req.damping)?;
+        let damping_std_log = if req.with_std {
+            self.damping_std(&mm, &d, req.mask)
+        } else {
+            vec![]
+        };
+        Some(HypFit {
+            value: None,
+            log_value: None,
+            damping: d,
+            cost,
+            std: None,
+            damping_std_log,
+            on_bound: false,
+            deck_values: Default::default(),
+        })
+    }
+
+    /// The best log parameter in the bracket (within the bounds [blo, bhi]):
+    /// `grid` evenly spaced points, then `golden` golden-section steps in the
+    /// grid cells either side of the best point. Returns (s, cost, damping).
+    fn search_log_parameter(
+        &self,
+        req: &FitRequest,
+        blo: f64,
+        bhi: f64,
+    ) -> Option<(f64, f64, DampingState)> {
+        let (lo, hi) = req
+            .search
+            .bracket
             .map(|(a, b)| (a.max(blo), b.min(bhi)))
             .unwrap_or((blo, bhi));
-        let g = grid.max(2);
+        let g = req.search.grid.max(2);
         let mut pts: Vec<(f64, f64, DampingState)> = Vec::new();
         for i in 0..g {
             let s = lo + (hi - lo) * i as f64 / (g - 1) as f64;
-            if let Some((c, d, _)) = self.profile(hyp, base, Some(s), damp, mask) {
+            if let Some((c, d, _)) = self.profile(req, Some(s), req.damping) {
                 pts.push((s, c, d));
             }
         }
         let ibest = (0..pts.len()).min_by(|&a, &b| pts[a].1.total_cmp(&pts[b].1))?;
         let step = (hi - lo) / (g - 1) as f64;
-        let (mut a, mut b) = (
+        let (a, b) = (
             (pts[ibest].0 - step).max(blo),
             (pts[ibest].0 + step).min(bhi),
         );
-        let mut best = pts[ibest].clone();
+        Some(self.golden_section(req, a, b, pts[ibest].clone()))
+    }
+
+    /// `req.search.golden` golden-section steps on [a, b] from the best
+    /// point so far; the damping profile of each point starts from the best
+    /// point's damping.
+    fn golden_section(
+        &self,
+        req: &FitRequest,
+        mut a: f64,
+        mut b: f64,
+        mut best: (f64, f64, DampingState),
+    ) -> (f64, f64, DampingState) {
         let phi = 0.5 * (5f64.sqrt() - 1.0);
         let mut x1 = b - phi * (b - a);
         let mut x2 = a + phi * (b - a);
-        let mut f1 = self.profile(hyp, base, Some(x1), &best.2, mask);
-        let mut f2 = self.profile(hyp, base, Some(x2), &best.2, mask);
-        for _ in 0..golden {
+        let mut f1 = self.profile(req, Some(x1), &best.2);
+        let mut f2 = self.profile(req, Some(x2), &best.2);
+        for _ in 0..req.search.golden {
             let c1 = f1.as_ref().map_or(f64::INFINITY, |v| v.0);
             let c2 = f2.as_ref().map_or(f64::INFINITY, |v| v.0);
             if c1 < best.1 {
@@ -192,13 +296,13 @@ impl<'a> Engine<'a> {
                 x2 = x1;
                 f2 = f1;
                 x1 = b - phi * (b - a);
-                f1 = self.profile(hyp, base, Some(x1), &best.2, mask);
+                f1 = self.profile(req, Some(x1), &best.2);
             } else {
                 a = x1;
                 x1 = x2;
                 f1 = f2;
                 x2 = a + phi * (b - a);
-                f2 = self.profile(hyp, base, Some(x2), &best.2, mask);
+                f2 = self.profile(req, Some(x2), &best.2);
             }
         }
         for f in [&f1, &f2] {
@@ -208,25 +312,7 @@ impl<'a> Engine<'a> {
                 }
             }
         }
-        let (s, cost, d) = best;
-        let span = bhi - blo;
-        let on_bound = s - blo < 0.02 * span || bhi - s < 0.02 * span;
-        let (std, damping_std_log) = if with_std {
-            self.joint_std(hyp, base, s, &d, mask)
-                .unwrap_or((f64::INFINITY, vec![]))
-        } else {
-            (f64::NAN, vec![])
-        };
-        Some(HypFit {
-            value: Some(s.exp()),
-            log_value: Some(s),
-            damping: d,
-            cost,
-            std: Some(std * s.exp()),
-            damping_std_log,
-            on_bound,
-            deck_values: Default::default(),
-        })
+        best
     }
 
     fn damping_std(&self, mm: &ModalModel, d: &DampingState, mask: &Mask) -> Vec<f64> {
@@ -252,15 +338,8 @@ impl<'a> Engine<'a> {
     }
 
     /// Standard deviations from the joint Jacobian (log parameter, damping logs).
-    fn joint_std(
-        &self,
-        hyp: Option<&Hypothesis>,
-        base: &Deck,
-        s: f64,
-        d: &DampingState,
-        mask: &Mask,
-    ) -> Option<(f64, Vec<f64>)> {
-        let h = hyp?;
+    fn joint_std(&self, req: &FitRequest, s: f64, d: &DampingState) -> Option<(f64, Vec<f64>)> {
+        let (h, base, mask) = (req.hypothesis?, req.base, req.mask);
         let mm = self.model(&h.apply(base, Some(s.exp()))).ok()?;
         let r = fit::residuals(
             &fit::predict(&mm, d.damping(), self.data, mask),
@@ -302,7 +381,18 @@ impl<'a> Engine<'a> {
     pub fn validate(&self, hyp: Option<&Hypothesis>, base: &Deck, full: &HypFit) -> f64 {
         self.cross_validate(full.cost, |train| {
             let bracket = full.log_value.map(|s| (s - 0.7, s + 0.7));
-            let f = self.fit(hyp, base, &full.damping, train, bracket, 3, 5, false)?;
+            let f = self.fit(&FitRequest {
+                hypothesis: hyp,
+                base,
+                damping: &full.damping,
+                mask: train,
+                search: LogSearch {
+                    bracket,
+                    grid: 3,
+                    golden: 5,
+                },
+                with_std: false,
+            })?;
             let deck = match hyp {
                 Some(h) => h.apply(base, f.value),
                 None => base.clone(),
@@ -378,7 +468,7 @@ pub fn choose_damping(
             _ => form.start(zeta0, wc),
         };
         let st = DampingState { form, x: start };
-        if let Some(f) = engine.fit(None, base, &st, &engine.all, None, 0, 0, false) {
+        if let Some(f) = engine.fit(&FitRequest::damping(base, &st, &engine.all)) {
             results.push((form, f.cost, f.damping));
         }
     }
