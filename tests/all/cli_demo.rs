@@ -36,11 +36,15 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     let before = its[0]["sfdac_mean"].as_f64().unwrap();
     let fin = report["final_iteration"].as_u64().unwrap() as usize;
     let after = its[fin]["sfdac_mean"].as_f64().unwrap();
-    // Issue targets: mean SFDAC > 0.99 (measured 0.42 -> 0.9991).
-    assert!(before < 0.5 && after > 0.99, "SFDAC {before} -> {after}");
+    // Issue target: mean SFDAC > 0.99. Measured 0.2992 -> 0.99911: the
+    // initial value is fixed by the deck and campaign (to 1e-3), the final
+    // one must keep at least half its closeness to 1.
+    assert!((before - 0.2992).abs() < 1e-3, "SFDAC before {before}");
+    assert!(after > 0.998, "SFDAC after {after}");
 
-    // Mean |df/f| over the first 10 elastic test modes < 0.5 % (measured
-    // 0.03 %); the 2.55 Hz suspension mode is not elastic (below 5 Hz).
+    // Mean |df/f| over the first 10 elastic test modes (issue target
+    // 0.5 %): measured 0.0015 % (frequencies.csv prints 0.001 % steps);
+    // the 2.55 Hz suspension mode is not elastic (below 5 Hz).
     let freqs = std::fs::read_to_string(out_dir.join("frequencies.csv")).unwrap();
     let mut devs = Vec::new();
     for line in freqs.lines().skip(1) {
@@ -54,12 +58,13 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     }
     assert!(devs.len() >= 10, "{freqs}");
     let mean = devs[..10].iter().sum::<f64>() / 10.0;
-    assert!(mean < 0.5, "mean |df/f| {mean} % over {devs:?}");
+    assert!(mean < 0.005, "mean |df/f| {mean} % over {devs:?}");
 
-    // Parameters within 0.05 of the truth where identifiable: a 10 % change
+    // Parameters within 1e-3 of the truth where identifiable: a 10 % change
     // moves one of the first 10 elastic modes by at least 0.1 % (see the
     // README; the root, tail, tailplane, fin-joint and fuselage-torsion
-    // parameters move none by more than 0.05 %). Measured: all within 0.01.
+    // parameters move none by more than 0.05 %). Measured: all within 5.2e-4
+    // (lw_J).
     let truth: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(
             std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur/truth.json"),
@@ -82,11 +87,11 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     for name in identifiable {
         let got = report["parameters"][name].as_f64().unwrap();
         let want = truth["parameters"][name].as_f64().unwrap();
-        // Measured with the default pipeline: all within 0.002.
-        assert!((got - want).abs() < 0.01, "{name}: {got} vs truth {want}");
+        assert!((got - want).abs() < 1e-3, "{name}: {got} vs truth {want}");
     }
     // Every parameter the estimate calls identified is within 0.03 of the
-    // truth (measured: largest 0.026, tail_Iz); the wing-root torsions are
+    // truth (measured: largest 0.024, rroot_Iy and tail_Iz, the weakly
+    // identified ones; the others within 0.008); the wing-root torsions are
     // reported as not identified and keep the deck's value.
     let estimates = report["parameter_estimates"].as_array().unwrap();
     let mut unidentified = Vec::new();

@@ -50,17 +50,34 @@ fn the_one<'a>(d: &'a Diagnosis, physics: &str, nodes: &[u32], dofs: &[&str]) ->
     s[0]
 }
 
-fn param(f: &Finding, name: &str) -> f64 {
-    f.parameters[name]
+/// The fitted `name` of `f` against the truth of the fixture (the value in
+/// its `.truth.deck`). With 1 % noise on every line of every channel (1.5 %
+/// on the GARTEUR campaign) the estimate scatters by its standard deviation
+/// σ, which the finding reports: the truth must lie within 3σ of the estimate
+/// (measured: 0.0001σ for the GARTEUR damping, 0.003σ to 1.8σ for the
+/// others), and σ itself must stay below 0.5 % of the truth (measured 0.02 %
+/// to 0.21 %), so the estimate is within 1.5 %. A bias of the estimator, or
+/// an uncertainty that claims too little or too much, fails.
+fn assert_fitted(f: &Finding, name: &str, truth: f64) {
+    let (x, sigma) = (f.parameters[name], f.uncertainty[name]);
+    assert!(
+        (x - truth).abs() <= 3.0 * sigma,
+        "{}: {name} = {x}, truth {truth}, σ = {sigma}",
+        f.label
+    );
+    assert!(
+        sigma <= 5e-3 * truth,
+        "{}: σ({name}) = {sigma} for {truth}",
+        f.label
+    );
 }
 
-fn within(x: f64, truth: f64, rel: f64) -> bool {
-    (x - truth).abs() <= rel * truth
-}
-
+/// After the diagnosis the model fits the test to the noise: the FRF error is
+/// normalised so that the noise alone gives 1, and the fitted parameters
+/// absorb a little of it (measured 0.71 to 0.88 over the cases).
 fn at_noise_level(d: &Diagnosis) {
     assert!(
-        d.diagnosed.frf_error < 1.5,
+        d.diagnosed.frf_error < 1.0,
         "FRF error after diagnosis {} (1 = noise)",
         d.diagnosed.frf_error
     );
@@ -69,16 +86,18 @@ fn at_noise_level(d: &Diagnosis) {
 #[test]
 fn sensor_mass_on_the_four_accelerometers() {
     let d = run("sensor_mass");
-    let m = param(the_one(&d, "sensor-mass", &[3, 5, 7, 9], &[]), "m");
-    assert!(within(m, 0.025, 0.2), "m = {m}");
+    assert_fitted(the_one(&d, "sensor-mass", &[3, 5, 7, 9], &[]), "m", 0.025);
     at_noise_level(&d);
 }
 
 #[test]
 fn flexible_clamp_in_rotation() {
     let d = run("support");
-    let k = param(the_one(&d, "support-flexibility", &[1], &["ry"]), "k");
-    assert!(k > 100.0 && k < 400.0, "k = {k}");
+    assert_fitted(
+        the_one(&d, "support-flexibility", &[1], &["ry"]),
+        "k",
+        200.0,
+    );
     at_noise_level(&d);
 }
 
@@ -91,24 +110,21 @@ fn missing_damping() {
         .iter()
         .find(|f| f.physics.name() == "damping")
         .unwrap();
-    let z = f.parameters.get("zeta").copied().unwrap_or(f64::NAN);
-    assert!(within(z, 0.02, 0.3), "zeta = {z}");
+    assert_fitted(f, "zeta", 0.02);
     at_noise_level(&d);
 }
 
 #[test]
 fn added_mass_between_sensors() {
     let d = run("added_mass");
-    let m = param(the_one(&d, "added-mass", &[6], &[]), "m");
-    assert!(within(m, 0.12, 0.2), "m = {m}");
+    assert_fitted(the_one(&d, "added-mass", &[6], &[]), "m", 0.12);
     at_noise_level(&d);
 }
 
 #[test]
 fn flexible_frame_corner() {
     let d = run("joint");
-    let k = param(the_one(&d, "joint-flexibility", &[4], &["ry"]), "k");
-    assert!(k > 75.0 && k < 300.0, "k = {k}");
+    assert_fitted(the_one(&d, "joint-flexibility", &[4], &["ry"]), "k", 150.0);
     at_noise_level(&d);
 }
 
@@ -133,8 +149,7 @@ fn controls_only_parameters_wrong() {
 #[test]
 fn free_free_beam_on_two_bungees() {
     let d = run("suspension");
-    let k = param(the_one(&d, "suspension", &[3, 11], &["z"]), "k");
-    assert!(k > 400.0 && k < 1600.0, "k = {k}");
+    assert_fitted(the_one(&d, "suspension", &[3, 11], &["z"]), "k", 800.0);
     at_noise_level(&d);
 }
 
@@ -155,15 +170,13 @@ fn sensor_masses_on_a_flexible_clamp() {
         (clamp.nodes.clone(), clamp.dofs.clone()),
         (vec![1], vec!["ry".to_string()])
     );
-    let k = param(clamp, "k");
-    assert!(k > 150.0 && k < 600.0, "k = {k}");
+    assert_fitted(clamp, "k", 300.0);
     let sensors = s
         .iter()
         .find(|f| f.physics.name() == "sensor-mass")
         .expect("a sensor-mass finding");
     assert_eq!(sensors.nodes, vec![3, 5, 7, 9]);
-    let m = param(sensors, "m");
-    assert!(within(m, 0.02, 0.2), "m = {m}");
+    assert_fitted(sensors, "m", 0.02);
     // The deck's modal damping (1.5 %) is the truth: no damping finding.
     assert!(
         d.findings.iter().all(|f| f.physics.name() != "damping"),
@@ -179,8 +192,7 @@ fn sensor_masses_on_a_flexible_clamp() {
 #[test]
 fn clamp_on_a_vertical_spring() {
     let d = run("support_z");
-    let k = param(the_one(&d, "support-flexibility", &[1], &["z"]), "k");
-    assert!(k > 1e4 && k < 4e4, "k = {k}");
+    assert_fitted(the_one(&d, "support-flexibility", &[1], &["z"]), "k", 2e4);
     at_noise_level(&d);
 }
 
@@ -191,8 +203,11 @@ fn clamp_on_a_vertical_spring() {
 #[test]
 fn sensor_masses_hidden_behind_parameter_errors() {
     let d = run("sensor_mass_portal");
-    let m = param(the_one(&d, "sensor-mass", &[2, 4, 6, 7, 9, 11], &[]), "m");
-    assert!(within(m, 0.03, 0.2), "m = {m}");
+    assert_fitted(
+        the_one(&d, "sensor-mass", &[2, 4, 6, 7, 9, 11], &[]),
+        "m",
+        0.03,
+    );
     at_noise_level(&d);
 }
 
@@ -217,8 +232,7 @@ fn garteur_only_damping_missing() {
         .iter()
         .find(|f| f.physics.name() == "damping")
         .expect("a damping finding");
-    let z = f.parameters.get("zeta").copied().unwrap_or(f64::NAN);
-    assert!(within(z, 0.01, 0.3), "zeta = {z}");
+    assert_fitted(f, "zeta", 0.01);
     at_noise_level(&d);
 }
 
@@ -391,8 +405,10 @@ fn report_with_localisation_map_and_frf_overlays() {
     assert_eq!(o.series_labels.len(), 4);
     let (given, diagnosed) = (log_misfit(&o.channels, 1), log_misfit(&o.channels, 3));
     eprintln!("mean |log10(model/test)|: as given {given:.3}, diagnosed {diagnosed:.4}");
-    assert!(diagnosed < 0.05, "diagnosed misfit {diagnosed}");
-    assert!(given > 0.2, "as-given misfit {given}");
+    // Measured 0.0100 diagnosed (1 % noise and what the fit leaves), 0.439
+    // as given (the deck's rigid corner).
+    assert!(diagnosed < 0.015, "diagnosed misfit {diagnosed}");
+    assert!(given > 0.4, "as-given misfit {given}");
     // The damping in the legend is the fit table's.
     assert!(
         o.series_labels[1].contains(&d.initial.damping),

@@ -526,7 +526,9 @@ fn a_stiff_joint_is_not_a_mechanism() {
         .unwrap()
         .parse()
         .unwrap();
-    assert!((first - 0.973).abs() < 0.01, "{}", o.stdout);
+    // 0.97295 Hz (about 5 % below the rigidly clamped 1.024 Hz): an eigen
+    // solve, exact but for the five decimals `modes` prints.
+    assert!((first - 0.97295).abs() <= 1e-5, "{}", o.stdout);
 }
 
 #[test]

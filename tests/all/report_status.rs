@@ -131,7 +131,9 @@ fn a_converged_run_has_a_green_status_and_its_estimate() {
         .unwrap_or_else(|| panic!("no p3 row: {md}"));
     let cells: Vec<&str> = p3.split('|').map(str::trim).collect();
     let value: f64 = cells[2].parse().unwrap();
-    assert!((value - 1.0).abs() < 0.02, "{p3}");
+    // p3 of the noise-free cantilever (exact 1.0), printed to four
+    // decimals: measured 0.9999 ± 1.35e-4.
+    assert!((value - 1.0).abs() <= 2e-4, "{p3}");
     assert!(cells[3].starts_with("± "), "{p3}");
     assert!(md.contains("damping identified along:"), "{md}");
     let html = read(&out.join("report.html"));

@@ -59,9 +59,10 @@ fn channels_matching_no_dof_are_listed_and_ignored() {
         matches!(w, UpdateWarning::UnmatchedChannels { labels } if labels.len() == 1 && labels[0].contains("99"))
     });
     assert!(listed, "{:?}", r.warnings);
-    // The other channels still update the model: p3 → 1 (exact 1.0).
+    // The other channels still update the model: p3 → 1 (exact 1.0), as
+    // in updating_paper::cantilever_table1 (measured 1.1e-4 from exact).
     assert!(
-        (r.parameters()[2] - 1.0).abs() < 0.01,
+        (r.parameters()[2] - 1.0).abs() < 1e-3,
         "{:?}",
         r.parameters()
     );
@@ -84,9 +85,10 @@ fn parameters_the_equations_cannot_tell_apart_are_named() {
         }),
         "{combos:?}"
     );
-    // The combination the data do see is recovered: (1 + p3)(1 + p3b) = 2.
+    // The combination the data do see is recovered: (1 + p3)(1 + p3b) = 2
+    // (measured 1.99989, as 1 + p3 alone in cantilever_table1).
     let p = r.parameters();
-    assert!(((1.0 + p[2]) * (1.0 + p[5]) - 2.0).abs() < 0.02, "{p:?}");
+    assert!(((1.0 + p[2]) * (1.0 + p[5]) - 2.0).abs() < 1e-3, "{p:?}");
 }
 
 #[test]
@@ -106,8 +108,9 @@ fn a_step_that_would_make_a_stiffness_negative_is_limited_and_reported() {
     assert!(!names.is_empty() && scale < 1.0, "{names:?} {scale}");
     let p = r.parameters();
     assert!(p.iter().all(|&x| 1.0 + x > 0.0), "{p:?}");
+    // Measured 2e-10 and 3e-9 from the truth; 1e-7 leaves room for rounding.
     assert!(
-        (p[0] + 0.99).abs() < 1e-3 && (p[2] + 0.99).abs() < 1e-3,
+        (p[0] + 0.99).abs() < 1e-7 && (p[2] + 0.99).abs() < 1e-7,
         "{p:?}"
     );
 }

@@ -121,21 +121,23 @@ fn cantilever_table1() {
     show("cantilever", &r);
     assert_eq!(r.updating_frequencies.len(), 12);
     assert!(r.converged);
-    assert!(
-        r.iterations.len() - 1 <= 4,
-        "{} iterations",
-        r.iterations.len() - 1
-    );
+    // Table 1 as printed: 3 iterations, final SFDAC ~1.0000 (ours 0.99997).
+    assert_eq!(r.iterations.len() - 1, 3, "iterations");
+    let last = r.final_record().sfdac.mean;
+    assert!(last >= 0.99995, "final SFDAC {last}");
+    // Noise-free data: what is left is the last step. The paper's iteration 3
+    // is within 4.6e-4 of exact (p2); ours within 6.2e-4 (p5), p3 1.1e-4.
     let p = r.parameters();
-    assert!((p[2] - 1.0).abs() <= 0.01, "{p:?}");
-    for j in [0, 1, 3, 4] {
-        assert!(p[j].abs() < 0.01, "{p:?}");
+    for (j, exact) in [0.0, 0.0, 1.0, 0.0, 0.0].into_iter().enumerate() {
+        assert!((p[j] - exact).abs() <= 1e-3, "p{} in {p:?}", j + 1);
     }
-    assert!(
-        (r.iterations[0].sfdac.mean - 0.6409).abs() <= 0.02,
-        "{}",
-        r.iterations[0].sfdac.mean
-    );
+    // The initial SFDAC is not the paper's 0.6409 to its digits (its twelve
+    // frequencies are not printed; ours are ±8 % of our test resonances):
+    // ours, 0.63317, is a fixed number of this deck and campaign (to 1e-4),
+    // within 0.008 of the paper's.
+    let first = r.iterations[0].sfdac.mean;
+    assert!((first - 0.63317).abs() <= 1e-4, "initial SFDAC {first}");
+    assert!((first - 0.6409).abs() <= 0.008, "initial SFDAC {first}");
 }
 
 #[test]
@@ -152,7 +154,9 @@ fn cantilever_element8_spreads_over_7_to_9() {
     let r = update(&d, &test, &opts).unwrap();
     show("cantilever15", &r);
     // Nearly ill-conditioned (15 neighbouring elements): the defect must land on
-    // elements 7-9; the weakly sensitive tip element may wander.
+    // elements 7-9; the weakly sensitive tip elements wander (measured after
+    // the 20 iterations of the limit: element 8 at 1.032, sum 7-9 1.016;
+    // elements 1-5 within 0.003, 11-13 within 0.045, 14-15 at 0.09, -0.23).
     let p = r.parameters();
     let pos: f64 = p.iter().map(|x| x.max(0.0)).sum();
     let centroid: f64 = p
@@ -163,9 +167,9 @@ fn cantilever_element8_spreads_over_7_to_9() {
         / pos;
     assert!((7.0..=9.0).contains(&centroid), "centroid {centroid}");
     let sum79: f64 = p[6..9].iter().sum();
-    assert!((sum79 - 1.0).abs() < 0.3, "sum 7-9 {sum79}");
-    for j in (0..5).chain(10..13) {
-        assert!(p[j].abs() < 0.1, "element {} {}", j + 1, p[j]);
+    assert!((sum79 - 1.0).abs() < 0.05, "sum 7-9 {sum79}");
+    for (j, bound) in (0..5).map(|j| (j, 0.01)).chain((10..13).map(|j| (j, 0.06))) {
+        assert!(p[j].abs() < bound, "element {} {}", j + 1, p[j]);
     }
 }
 
@@ -185,9 +189,11 @@ fn framework_table2() {
     show("framework", &r);
     assert_eq!(r.updating_frequencies.len(), 16);
     assert!(r.converged);
+    // Converged at iteration 5 (the paper: 8) within 0.011 of exact (p6; the
+    // paper's largest is 0.025, p5): the stopping rule's last step.
     let exact = [-0.2, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0];
     for (j, (p, e)) in r.parameters().iter().zip(exact).enumerate() {
-        assert!((p - e).abs() <= 0.02, "p{} = {p}, exact {e}", j + 1);
+        assert!((p - e).abs() <= 0.015, "p{} = {p}, exact {e}", j + 1);
     }
 }
 
@@ -243,8 +249,9 @@ fn frame3d_with(noise: f64, seed: u64, tweak: &dyn Fn(&mut UpdateOptions)) -> Up
 fn frame3d_table4_noise_free() {
     let r = frame3d(0.0);
     assert!(r.converged);
+    // Within 0.0026 of exact (p6), as the paper's no-noise row (0.0027, p2).
     for (p, e) in r.parameters().iter().zip(FRAME3D_EXACT) {
-        assert!((p - e).abs() <= 0.005, "{p} vs {e}");
+        assert!((p - e).abs() <= 0.004, "{p} vs {e}");
     }
     assert!(r.final_record().sfdac.mean > 0.999);
 }
@@ -268,8 +275,10 @@ fn noisy_options(noise: f64) -> impl Fn(&mut UpdateOptions) {
 
 #[test]
 fn frame3d_table4_noise_1_and_5_percent() {
-    // Bounds: about twice the paper's Table 4 (0.023, 0.15) for this seed.
-    for (noise, bound) in [(0.01, 0.05), (0.05, 0.3)] {
+    // One fixed realisation, as the paper's Table 4 (largest errors 0.023 at
+    // 1 %, 0.15 at 5 %); ours measured 0.028 and 0.146. Bounds 25 % above
+    // ours: deterministic but for rounding, which a noisy fit may amplify.
+    for (noise, bound) in [(0.01, 0.035), (0.05, 0.18)] {
         let r = frame3d_with(noise, 2024, &noisy_options(noise));
         let err = r
             .parameters()
