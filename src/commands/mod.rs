@@ -15,19 +15,19 @@ pub mod simulate;
 
 use crate::tasks::CommandError;
 
-/// Read and parse a UFF file, streaming (bounded memory, parsing on all
-/// cores while reading; a byte bar on a terminal for large files); errors
-/// name the file.
+/// Read and parse a UFF file as every command does
+/// ([`crate::testdata::parse_uff`]), with a byte bar on a terminal for large
+/// files; errors name the file.
 pub fn read_uff(
     path: &std::path::Path,
     progress: progress::Progress,
 ) -> Result<frfup_parsers::uff::UffFile, CommandError> {
-    // Directories and devices refused, a pipe read to a bound (`fsio::open_input`).
-    let (file, len) = crate::fsio::open_input(path).map_err(CommandError::input)?;
-    let reader = progress::ProgressReader::new(file, len, &path.display().to_string(), progress);
+    let input = |e: crate::testdata::TestDataError| CommandError::input(e.to_string());
+    let (file, len) = crate::testdata::open_uff(path).map_err(input)?;
     // The parser streams: the bar advances as bytes are parsed, not just read.
-    let mut reader = reader;
-    let parsed = frfup_parsers::uff::parse_reader(&mut reader);
+    let mut reader =
+        progress::ProgressReader::new(file, len, &path.display().to_string(), progress);
+    let parsed = crate::testdata::parse_uff(path, &mut reader);
     reader.finish();
-    parsed.map_err(|e| CommandError::input(format!("{}: {e}", path.display())))
+    parsed.map_err(input)
 }

@@ -1,5 +1,7 @@
-//! Gather dataset 58 FRF records of a UFF file into [`MeasuredFrfs`].
+//! Read a UFF file (the one read path of every command) and gather its
+//! dataset 58 FRF records into [`MeasuredFrfs`].
 
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use faer::c64;
@@ -30,7 +32,7 @@ pub enum TestDataError {
 impl std::fmt::Display for TestDataError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            // `load` reads through `fsio::read_input`, whose messages name the file.
+            // The message names the file (`fsio::open_input`, `parse_uff`).
             TestDataError::Io { source, .. } => write!(f, "{source}"),
             TestDataError::Uff { path, source } => write!(f, "{}: {source}", path.display()),
             TestDataError::NoFrfs { path, detail }
@@ -61,15 +63,60 @@ pub fn load(path: &Path) -> Result<MeasuredFrfs, TestDataError> {
 
 /// Read a UFF file and gather its FRF records, with what was noticed.
 pub fn load_with_notes(path: &Path) -> Result<LoadedTest, TestDataError> {
-    let bytes = crate::fsio::read_input(path).map_err(|message| TestDataError::Io {
+    let (reader, _len) = open_uff(path)?;
+    let file = parse_uff(path, reader)?;
+    from_uff_with_notes(&file, path)
+}
+
+/// Open a UFF file for [`parse_uff`]: directories and devices are refused, a
+/// pipe is read to a bound (`fsio::open_input`). Returns the reader and the
+/// file's length in bytes (0 for a pipe).
+pub fn open_uff(path: &Path) -> Result<(crate::fsio::Bounded<std::fs::File>, u64), TestDataError> {
+    crate::fsio::open_input(path).map_err(|message| TestDataError::Io {
         path: path.to_path_buf(),
         source: std::io::Error::other(message),
-    })?;
-    let file = frfup_parsers::uff::parse(&bytes).map_err(|source| TestDataError::Uff {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    from_uff_with_notes(&file, path)
+    })
+}
+
+/// Parse the UFF file `path` from `reader`, streaming
+/// ([`frfup_parsers::uff::parse_reader`]: read in chunks, datasets parsed on
+/// worker threads while reading goes on, memory near the decoded data).
+/// A read error is reported as the file's `cannot read: ...`, as for any
+/// input; errors name the file.
+pub fn parse_uff(path: &Path, reader: impl Read) -> Result<UffFile, TestDataError> {
+    let mut reader = Watched {
+        inner: reader,
+        error: None,
+    };
+    frfup_parsers::uff::parse_reader(&mut reader).map_err(|source| match reader.error.take() {
+        Some(e) => TestDataError::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::other(format!("{}: cannot read: {e}", path.display())),
+        },
+        None => TestDataError::Uff {
+            path: path.to_path_buf(),
+            source,
+        },
+    })
+}
+
+/// A reader that keeps the words of the first error it returned (the parser
+/// reports it as a parse error at a byte offset).
+struct Watched<R> {
+    inner: R,
+    error: Option<String>,
+}
+
+impl<R: Read> Read for Watched<R> {
+    fn read(&mut self, buf: &mut [u8]) -> std::io::Result<usize> {
+        let r = self.inner.read(buf);
+        if let Err(e) = &r {
+            if self.error.is_none() && e.kind() != std::io::ErrorKind::Interrupted {
+                self.error = Some(e.to_string());
+            }
+        }
+        r
+    }
 }
 
 /// The FRF kind of a record, from the response's specific data type (record 9),

@@ -44,7 +44,10 @@ pub mod layout;
 pub mod load;
 
 pub use convert::{signed_real, signed_real_displacement};
-pub use load::{from_uff, from_uff_with_notes, load, load_with_notes, LoadedTest, TestDataError};
+pub use load::{
+    from_uff, from_uff_with_notes, load, load_with_notes, open_uff, parse_uff, LoadedTest,
+    TestDataError,
+};
 
 impl FrfKind {
     /// Power of iω that turns receptance into this kind: 0, 1 or 2.
