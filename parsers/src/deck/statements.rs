@@ -18,179 +18,221 @@ pub(crate) fn parse_statements(text: &str) -> Result<Deck, DeckError> {
         let line = strip_comment(raw);
         let toks = tokenize(line, line_no);
         let Some(first) = toks.first() else { continue };
-        let args = &toks[1..];
-        let pos = first.pos;
-        match first.text {
-            "title" => {
-                let text = match args.first() {
-                    Some(t) => {
-                        let off = t.text.as_ptr() as usize - line.as_ptr() as usize;
-                        line[off..].trim_end_matches([' ', '\t']).to_string()
-                    }
-                    None => String::new(),
-                };
-                deck.titles.push(Title { text, pos });
-            }
-            "analysis" => {
-                let [kind] = exact(args, first, &["plane|space"])?;
-                let analysis = match kind.text {
-                    "plane" => Analysis::Plane,
-                    "space" => Analysis::Space,
-                    other => {
-                        return Err(DeckError::new(
-                            kind.pos,
-                            format!("expected `plane` or `space`, found `{other}`"),
-                        ))
-                    }
-                };
-                if let Some(prev) = deck.analysis_pos {
-                    return Err(DeckError::new(
-                        pos,
-                        format!(
-                            "duplicate `analysis` statement (first at line {})",
-                            prev.line
-                        ),
-                    ));
-                }
-                deck.analysis = analysis;
-                deck.analysis_pos = Some(pos);
-            }
-            "material" => deck.materials.push(material(first, args)?),
-            "section" => deck.sections.push(section(first, args)?),
-            "node" => {
-                let [idt, x, y, z] = exact(args, first, &["ID", "X", "Y", "Z"])?;
-                deck.nodes.push(Node {
-                    id: id_at(idt, "a node ID")?,
-                    xyz: [
-                        number_at(x.text, x.pos, "X")?,
-                        number_at(y.text, y.pos, "Y")?,
-                        number_at(z.text, z.pos, "Z")?,
-                    ],
-                    pos,
-                });
-            }
-            "beam" => deck.beams.push(beam(first, args)?),
-            "mass" => deck.masses.push(mass(first, args)?),
-            "spring" => deck.springs.push(spring(first, args)?),
-            "fix" => {
-                let [node, dofs] = exact(args, first, &["NODE", "DOFS"])?;
-                let node = id_at(node, "a node ID")?;
-                let dofs = if dofs.text == "all" {
-                    FixDofs::All
-                } else {
-                    let mut list = Vec::new();
-                    let mut offset = 0;
-                    for part in dofs.text.split(',') {
-                        let dof = DeckDof::from_name(part).ok_or_else(|| {
-                            DeckError::new(
-                                dofs.pos_at(offset),
-                                format!(
-                                    "bad DOF name `{part}`: expected `all` or a comma list of x y z rx ry rz"
-                                ),
-                            )
-                        })?;
-                        if !list.contains(&dof) {
-                            list.push(dof);
-                        }
-                        offset += part.len() + 1;
-                    }
-                    FixDofs::List(list)
-                };
-                deck.fixes.push(Fix { node, dofs, pos });
-            }
-            "damping" => {
-                let Some(kind) = args.first() else {
-                    return Err(DeckError::new(
-                        end_of(first),
-                        "expected `modal ZETA`, `rayleigh ALPHA BETA` or `hysteretic ETA` after `damping`",
-                    ));
-                };
-                let values = &args[1..];
-                let model = match kind.text {
-                    "modal" => {
-                        let [z] = exact(values, kind, &["ZETA"])?;
-                        DampingModel::Modal {
-                            zeta: number_at(z.text, z.pos, "ZETA")?,
-                        }
-                    }
-                    "rayleigh" => {
-                        let [a, b] = exact(values, kind, &["ALPHA", "BETA"])?;
-                        DampingModel::Rayleigh {
-                            alpha: number_at(a.text, a.pos, "ALPHA")?,
-                            beta: number_at(b.text, b.pos, "BETA")?,
-                        }
-                    }
-                    "hysteretic" => {
-                        let [e] = exact(values, kind, &["ETA"])?;
-                        DampingModel::Hysteretic {
-                            eta: number_at(e.text, e.pos, "ETA")?,
-                        }
-                    }
-                    other => {
-                        return Err(DeckError::new(
-                            kind.pos,
-                            format!(
-                                "unknown damping model `{other}`: expected `modal`, `rayleigh` or `hysteretic`"
-                            ),
-                        ))
-                    }
-                };
-                if let Some(prev) = deck.damping {
-                    return Err(DeckError::new(
-                        pos,
-                        format!(
-                            "duplicate `damping` statement (first at line {})",
-                            prev.pos.line
-                        ),
-                    ));
-                }
-                deck.damping = Some(DampingStatement { model, pos });
-            }
-            "param" => {
-                let (head, tail) = positional(args, first, &["NAME", "QTY", "IDS"])?;
-                let [name, qty, ids] = exact(head, first, &["NAME", "QTY", "IDS"])?;
-                let kv = KeyValues::parse(tail, first, &["min", "max", "sd"])?;
-                let name = name_at(name, "a parameter name")?;
-                let quantity = Quantity::from_name(qty.text).ok_or_else(|| {
-                    DeckError::new(
-                        qty.pos,
-                        format!(
-                            "unknown quantity `{}`: expected one of E G rho A Iy Iz J (beams), m (masses), k (springs)",
-                            qty.text
-                        ),
-                    )
-                })?;
-                let ids = id_list(ids)?
-                    .into_iter()
-                    .map(|(first, last, pos)| IdRange { first, last, pos })
-                    .collect();
-                deck.params.push(Param {
-                    name,
-                    quantity,
-                    ids,
-                    min: kv.number("min")?,
-                    max: kv.number("max")?,
-                    sd: kv.number("sd")?,
-                    pos,
-                });
-            }
-            "sensor" => {
-                let [t, n] = exact(args, first, &["TESTNODE", "NODE"])?;
-                deck.sensors.push(Sensor {
-                    test_node: id_at(t, "a test node ID")?,
-                    node: id_at(n, "a node ID")?,
-                    pos,
-                });
-            }
-            other => {
-                return Err(DeckError::new(
-                    pos,
-                    format!("unknown keyword `{other}`: expected one of {KEYWORDS}"),
-                ))
-            }
-        }
+        statement(&mut deck, line, first, &toks[1..])?;
     }
     Ok(deck)
+}
+
+/// One statement (keyword `first`, arguments `args`, from `line`) into `deck`.
+fn statement(
+    deck: &mut Deck,
+    line: &str,
+    first: &Token<'_>,
+    args: &[Token<'_>],
+) -> Result<(), DeckError> {
+    match first.text {
+        "title" => deck.titles.push(title(line, first, args)),
+        "analysis" => analysis(deck, first, args)?,
+        "material" => deck.materials.push(material(first, args)?),
+        "section" => deck.sections.push(section(first, args)?),
+        "node" => deck.nodes.push(node(first, args)?),
+        "beam" => deck.beams.push(beam(first, args)?),
+        "mass" => deck.masses.push(mass(first, args)?),
+        "spring" => deck.springs.push(spring(first, args)?),
+        "fix" => deck.fixes.push(fix(first, args)?),
+        "damping" => damping(deck, first, args)?,
+        "param" => deck.params.push(param(first, args)?),
+        "sensor" => deck.sensors.push(sensor(first, args)?),
+        other => {
+            return Err(DeckError::new(
+                first.pos,
+                format!("unknown keyword `{other}`: expected one of {KEYWORDS}"),
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// `title TEXT`: the rest of the line, trailing blanks removed.
+fn title(line: &str, first: &Token<'_>, args: &[Token<'_>]) -> Title {
+    let text = match args.first() {
+        Some(t) => {
+            let off = t.text.as_ptr() as usize - line.as_ptr() as usize;
+            line[off..].trim_end_matches([' ', '\t']).to_string()
+        }
+        None => String::new(),
+    };
+    Title {
+        text,
+        pos: first.pos,
+    }
+}
+
+/// `analysis plane|space`, at most once.
+fn analysis(deck: &mut Deck, first: &Token<'_>, args: &[Token<'_>]) -> Result<(), DeckError> {
+    let [kind] = exact(args, first, &["plane|space"])?;
+    let analysis = match kind.text {
+        "plane" => Analysis::Plane,
+        "space" => Analysis::Space,
+        other => {
+            return Err(DeckError::new(
+                kind.pos,
+                format!("expected `plane` or `space`, found `{other}`"),
+            ))
+        }
+    };
+    if let Some(prev) = deck.analysis_pos {
+        return Err(DeckError::new(
+            first.pos,
+            format!(
+                "duplicate `analysis` statement (first at line {})",
+                prev.line
+            ),
+        ));
+    }
+    deck.analysis = analysis;
+    deck.analysis_pos = Some(first.pos);
+    Ok(())
+}
+
+/// `node ID X Y Z`.
+fn node(first: &Token<'_>, args: &[Token<'_>]) -> Result<Node, DeckError> {
+    let [idt, x, y, z] = exact(args, first, &["ID", "X", "Y", "Z"])?;
+    Ok(Node {
+        id: id_at(idt, "a node ID")?,
+        xyz: [
+            number_at(x.text, x.pos, "X")?,
+            number_at(y.text, y.pos, "Y")?,
+            number_at(z.text, z.pos, "Z")?,
+        ],
+        pos: first.pos,
+    })
+}
+
+/// `fix NODE DOFS`: `all` or a comma list of DOF names (repeats dropped).
+fn fix(first: &Token<'_>, args: &[Token<'_>]) -> Result<Fix, DeckError> {
+    let [node, dofs] = exact(args, first, &["NODE", "DOFS"])?;
+    let node = id_at(node, "a node ID")?;
+    let dofs = if dofs.text == "all" {
+        FixDofs::All
+    } else {
+        let mut list = Vec::new();
+        let mut offset = 0;
+        for part in dofs.text.split(',') {
+            let dof = DeckDof::from_name(part).ok_or_else(|| {
+                DeckError::new(
+                    dofs.pos_at(offset),
+                    format!(
+                        "bad DOF name `{part}`: expected `all` or a comma list of x y z rx ry rz"
+                    ),
+                )
+            })?;
+            if !list.contains(&dof) {
+                list.push(dof);
+            }
+            offset += part.len() + 1;
+        }
+        FixDofs::List(list)
+    };
+    Ok(Fix {
+        node,
+        dofs,
+        pos: first.pos,
+    })
+}
+
+/// `damping modal ZETA | rayleigh ALPHA BETA | hysteretic ETA`, at most once.
+fn damping(deck: &mut Deck, first: &Token<'_>, args: &[Token<'_>]) -> Result<(), DeckError> {
+    let Some(kind) = args.first() else {
+        return Err(DeckError::new(
+            end_of(first),
+            "expected `modal ZETA`, `rayleigh ALPHA BETA` or `hysteretic ETA` after `damping`",
+        ));
+    };
+    let values = &args[1..];
+    let model = match kind.text {
+        "modal" => {
+            let [z] = exact(values, kind, &["ZETA"])?;
+            DampingModel::Modal {
+                zeta: number_at(z.text, z.pos, "ZETA")?,
+            }
+        }
+        "rayleigh" => {
+            let [a, b] = exact(values, kind, &["ALPHA", "BETA"])?;
+            DampingModel::Rayleigh {
+                alpha: number_at(a.text, a.pos, "ALPHA")?,
+                beta: number_at(b.text, b.pos, "BETA")?,
+            }
+        }
+        "hysteretic" => {
+            let [e] = exact(values, kind, &["ETA"])?;
+            DampingModel::Hysteretic {
+                eta: number_at(e.text, e.pos, "ETA")?,
+            }
+        }
+        other => {
+            return Err(DeckError::new(
+                kind.pos,
+                format!(
+                    "unknown damping model `{other}`: expected `modal`, `rayleigh` or `hysteretic`"
+                ),
+            ))
+        }
+    };
+    if let Some(prev) = deck.damping {
+        return Err(DeckError::new(
+            first.pos,
+            format!(
+                "duplicate `damping` statement (first at line {})",
+                prev.pos.line
+            ),
+        ));
+    }
+    deck.damping = Some(DampingStatement {
+        model,
+        pos: first.pos,
+    });
+    Ok(())
+}
+
+/// `param NAME QTY IDS [min=…] [max=…] [sd=…]`.
+fn param(first: &Token<'_>, args: &[Token<'_>]) -> Result<Param, DeckError> {
+    let (head, tail) = positional(args, first, &["NAME", "QTY", "IDS"])?;
+    let [name, qty, ids] = exact(head, first, &["NAME", "QTY", "IDS"])?;
+    let kv = KeyValues::parse(tail, first, &["min", "max", "sd"])?;
+    let name = name_at(name, "a parameter name")?;
+    let quantity = Quantity::from_name(qty.text).ok_or_else(|| {
+        DeckError::new(
+            qty.pos,
+            format!(
+                "unknown quantity `{}`: expected one of E G rho A Iy Iz J (beams), m (masses), k (springs)",
+                qty.text
+            ),
+        )
+    })?;
+    let ids = id_list(ids)?
+        .into_iter()
+        .map(|(first, last, pos)| IdRange { first, last, pos })
+        .collect();
+    Ok(Param {
+        name,
+        quantity,
+        ids,
+        min: kv.number("min")?,
+        max: kv.number("max")?,
+        sd: kv.number("sd")?,
+        pos: first.pos,
+    })
+}
+
+/// `sensor TESTNODE NODE`.
+fn sensor(first: &Token<'_>, args: &[Token<'_>]) -> Result<Sensor, DeckError> {
+    let [t, n] = exact(args, first, &["TESTNODE", "NODE"])?;
+    Ok(Sensor {
+        test_node: id_at(t, "a test node ID")?,
+        node: id_at(n, "a node ID")?,
+        pos: first.pos,
+    })
 }
 
 /// The column just past a token (where a missing argument was expected).

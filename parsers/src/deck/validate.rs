@@ -58,362 +58,437 @@ impl Issues {
     }
 }
 
-/// All issues of a deck (unordered).
+/// All issues of a deck (unordered; raised statement kind by statement kind,
+/// in this order, which decides between issues at the same position).
 pub(crate) fn issues(deck: &Deck) -> Vec<Issue> {
-    let mut out = Issues(Vec::new());
-    let plane = deck.analysis == Analysis::Plane;
+    let mut check = Checker {
+        deck,
+        plane: deck.analysis == Analysis::Plane,
+        out: Issues(Vec::new()),
+    };
+    let materials = check.materials();
+    let sections = check.sections();
+    let nodes = check.nodes();
+    let beams = check.beams(&nodes, &materials, &sections);
+    let masses = check.masses(&nodes);
+    let springs = check.springs(&nodes);
+    check.fixes(&nodes);
+    check.damping();
+    check.params([
+        (Target::Beam, ids(&beams)),
+        (Target::Mass, ids(&masses)),
+        (Target::Spring, ids(&springs)),
+    ]);
+    check.sensors(&nodes);
+    check.out.0
+}
 
-    let mut materials = BTreeMap::new();
-    for m in &deck.materials {
-        bad_name(&mut out, m.pos, "material", &m.name);
-        if let Some(prev) = materials.insert(m.name.as_str(), m.pos) {
-            out.push(
-                m.pos,
-                Arg::Positional(0),
-                format!(
-                    "duplicate material `{}` (first at line {})",
-                    m.name, prev.line
-                ),
-            );
-        }
-        out.positive(m.pos, "E", "Young's modulus", m.e);
-        out.positive(m.pos, "rho", "density", m.rho);
-        if let Some(g) = m.g {
-            out.positive(m.pos, "G", "shear modulus", g);
-        }
-        if let Some(nu) = m.nu {
-            // ν ≤ 0.5 for a physical isotropic solid, but updated decks may
-            // carry equivalent values; only G = E/(2(1+ν)) > 0 is required.
-            if !(nu > -1.0 && nu.is_finite()) {
+/// Names (or IDs) seen so far, with the position of their first statement.
+type Seen<K> = BTreeMap<K, Pos>;
+
+/// The IDs of a kind of statement, ascending.
+fn ids(seen: &Seen<u32>) -> Vec<u32> {
+    seen.keys().copied().collect()
+}
+
+/// The checks of one deck, one method per statement kind.
+struct Checker<'d> {
+    deck: &'d Deck,
+    plane: bool,
+    out: Issues,
+}
+
+impl<'d> Checker<'d> {
+    fn materials(&mut self) -> Seen<&'d str> {
+        let out = &mut self.out;
+        let mut materials = BTreeMap::new();
+        for m in &self.deck.materials {
+            bad_name(out, m.pos, "material", &m.name);
+            if let Some(prev) = materials.insert(m.name.as_str(), m.pos) {
                 out.push(
                     m.pos,
-                    Arg::Key("nu"),
-                    format!("Poisson's ratio `nu` must exceed -1 (so that G = E/(2(1+nu)) > 0), found {nu}"),
+                    Arg::Positional(0),
+                    format!(
+                        "duplicate material `{}` (first at line {})",
+                        m.name, prev.line
+                    ),
+                );
+            }
+            out.positive(m.pos, "E", "Young's modulus", m.e);
+            out.positive(m.pos, "rho", "density", m.rho);
+            if let Some(g) = m.g {
+                out.positive(m.pos, "G", "shear modulus", g);
+            }
+            if let Some(nu) = m.nu {
+                // ν ≤ 0.5 for a physical isotropic solid, but updated decks may
+                // carry equivalent values; only G = E/(2(1+ν)) > 0 is required.
+                if !(nu > -1.0 && nu.is_finite()) {
+                    out.push(
+                        m.pos,
+                        Arg::Key("nu"),
+                        format!("Poisson's ratio `nu` must exceed -1 (so that G = E/(2(1+nu)) > 0), found {nu}"),
+                    );
+                }
+            }
+        }
+        materials
+    }
+
+    fn sections(&mut self) -> Seen<&'d str> {
+        let (out, plane) = (&mut self.out, self.plane);
+        let mut sections = BTreeMap::new();
+        for s in &self.deck.sections {
+            bad_name(out, s.pos, "section", &s.name);
+            if let Some(prev) = sections.insert(s.name.as_str(), s.pos) {
+                out.push(
+                    s.pos,
+                    Arg::Positional(0),
+                    format!(
+                        "duplicate section `{}` (first at line {})",
+                        s.name, prev.line
+                    ),
+                );
+            }
+            out.positive(s.pos, "A", "area", s.a);
+            out.positive(s.pos, "Iy", "second moment of area", s.iy);
+            for (key, v, what) in [
+                ("Iz", s.iz, "second moment of area"),
+                ("J", s.j, "torsion constant"),
+                ("ky", s.ky, "shear coefficient"),
+                ("kz", s.kz, "shear coefficient"),
+            ] {
+                if let Some(v) = v {
+                    out.positive(s.pos, key, what, v);
+                }
+            }
+            if !plane {
+                for (key, v) in [("Iz", s.iz), ("J", s.j)] {
+                    if v.is_none() {
+                        out.push(
+                            s.pos,
+                            Arg::Statement,
+                            format!(
+                                "section `{}` lacks `{key}=…`, required for `analysis space`",
+                                s.name
+                            ),
+                        );
+                    }
+                }
+            }
+        }
+        sections
+    }
+
+    fn nodes(&mut self) -> Seen<u32> {
+        let (out, plane) = (&mut self.out, self.plane);
+        let mut nodes = BTreeMap::new();
+        for n in &self.deck.nodes {
+            if let Some(prev) = nodes.insert(n.id, n.pos) {
+                out.push(
+                    n.pos,
+                    Arg::Positional(0),
+                    format!("duplicate node ID {} (first at line {})", n.id, prev.line),
+                );
+            }
+            for (i, c) in n.xyz.iter().enumerate() {
+                if !c.is_finite() {
+                    out.push(n.pos, Arg::Positional(i + 1), "coordinate must be finite");
+                }
+            }
+            if plane && n.xyz[1] != 0.0 {
+                out.push(
+                    n.pos,
+                    Arg::Positional(2),
+                    format!(
+                        "node {} has y = {} but `analysis plane` requires y = 0",
+                        n.id, n.xyz[1]
+                    ),
                 );
             }
         }
+        nodes
     }
 
-    let mut sections = BTreeMap::new();
-    for s in &deck.sections {
-        bad_name(&mut out, s.pos, "section", &s.name);
-        if let Some(prev) = sections.insert(s.name.as_str(), s.pos) {
-            out.push(
-                s.pos,
-                Arg::Positional(0),
-                format!(
-                    "duplicate section `{}` (first at line {})",
-                    s.name, prev.line
-                ),
-            );
-        }
-        out.positive(s.pos, "A", "area", s.a);
-        out.positive(s.pos, "Iy", "second moment of area", s.iy);
-        for (key, v, what) in [
-            ("Iz", s.iz, "second moment of area"),
-            ("J", s.j, "torsion constant"),
-            ("ky", s.ky, "shear coefficient"),
-            ("kz", s.kz, "shear coefficient"),
-        ] {
-            if let Some(v) = v {
-                out.positive(s.pos, key, what, v);
+    fn beams(
+        &mut self,
+        nodes: &Seen<u32>,
+        materials: &Seen<&str>,
+        sections: &Seen<&str>,
+    ) -> Seen<u32> {
+        let out = &mut self.out;
+        let mut beams = BTreeMap::new();
+        for b in &self.deck.beams {
+            if let Some(prev) = beams.insert(b.id, b.pos) {
+                out.push(
+                    b.pos,
+                    Arg::Positional(0),
+                    format!("duplicate beam ID {} (first at line {})", b.id, prev.line),
+                );
+            }
+            for (i, n) in b.nodes.iter().enumerate() {
+                if !nodes.contains_key(n) {
+                    out.push(
+                        b.pos,
+                        Arg::Positional(i + 1),
+                        format!("beam {} uses undefined node {n}", b.id),
+                    );
+                }
+            }
+            if b.nodes[0] == b.nodes[1] {
+                out.push(
+                    b.pos,
+                    Arg::Positional(2),
+                    format!("beam {} connects node {} to itself", b.id, b.nodes[0]),
+                );
+            }
+            if !materials.contains_key(b.material.as_str()) {
+                out.push(
+                    b.pos,
+                    Arg::Positional(3),
+                    format!("beam {} uses undefined material `{}`", b.id, b.material),
+                );
+            }
+            if !sections.contains_key(b.section.as_str()) {
+                out.push(
+                    b.pos,
+                    Arg::Positional(4),
+                    format!("beam {} uses undefined section `{}`", b.id, b.section),
+                );
+            }
+            if let Some(o) = &b.orient {
+                orient(out, b.pos, o, self.plane);
             }
         }
-        if !plane {
-            for (key, v) in [("Iz", s.iz), ("J", s.j)] {
-                if v.is_none() {
+        beams
+    }
+
+    fn masses(&mut self, nodes: &Seen<u32>) -> Seen<u32> {
+        let out = &mut self.out;
+        let mut masses = BTreeMap::new();
+        for m in &self.deck.masses {
+            if let Some(prev) = masses.insert(m.id, m.pos) {
+                out.push(
+                    m.pos,
+                    Arg::Positional(0),
+                    format!("duplicate mass ID {} (first at line {})", m.id, prev.line),
+                );
+            }
+            if !nodes.contains_key(&m.node) {
+                out.push(
+                    m.pos,
+                    Arg::Positional(1),
+                    format!("mass {} is on undefined node {}", m.id, m.node),
+                );
+            }
+            out.non_negative(m.pos, Arg::Key("m"), "mass `m`", m.m);
+            for (key, v) in [("Ixx", m.ixx), ("Iyy", m.iyy), ("Izz", m.izz)] {
+                if let Some(v) = v {
+                    out.non_negative(m.pos, Arg::Key(key), &format!("rotary inertia `{key}`"), v);
+                }
+            }
+        }
+        masses
+    }
+
+    fn springs(&mut self, nodes: &Seen<u32>) -> Seen<u32> {
+        let (out, analysis) = (&mut self.out, self.deck.analysis);
+        let mut springs = BTreeMap::new();
+        for s in &self.deck.springs {
+            if let Some(prev) = springs.insert(s.id, s.pos) {
+                out.push(
+                    s.pos,
+                    Arg::Positional(0),
+                    format!("duplicate spring ID {} (first at line {})", s.id, prev.line),
+                );
+            }
+            if !nodes.contains_key(&s.node) {
+                out.push(
+                    s.pos,
+                    Arg::Positional(1),
+                    format!("spring {} is on undefined node {}", s.id, s.node),
+                );
+            }
+            if !analysis.has_dof(s.dof) {
+                out.push(s.pos, Arg::Positional(2), missing_dof(s.dof));
+            }
+            out.positive(s.pos, "k", "spring stiffness", s.k);
+            if let Some(to) = s.to {
+                if !nodes.contains_key(&to) {
                     out.push(
                         s.pos,
-                        Arg::Statement,
-                        format!(
-                            "section `{}` lacks `{key}=…`, required for `analysis space`",
-                            s.name
-                        ),
+                        Arg::Key("to"),
+                        format!("spring {} goes to undefined node {to}", s.id),
                     );
-                }
-            }
-        }
-    }
-
-    let mut nodes = BTreeMap::new();
-    for n in &deck.nodes {
-        if let Some(prev) = nodes.insert(n.id, n.pos) {
-            out.push(
-                n.pos,
-                Arg::Positional(0),
-                format!("duplicate node ID {} (first at line {})", n.id, prev.line),
-            );
-        }
-        for (i, c) in n.xyz.iter().enumerate() {
-            if !c.is_finite() {
-                out.push(n.pos, Arg::Positional(i + 1), "coordinate must be finite");
-            }
-        }
-        if plane && n.xyz[1] != 0.0 {
-            out.push(
-                n.pos,
-                Arg::Positional(2),
-                format!(
-                    "node {} has y = {} but `analysis plane` requires y = 0",
-                    n.id, n.xyz[1]
-                ),
-            );
-        }
-    }
-    let node_ok = |id: u32| nodes.contains_key(&id);
-
-    let mut beams = BTreeMap::new();
-    for b in &deck.beams {
-        if let Some(prev) = beams.insert(b.id, b.pos) {
-            out.push(
-                b.pos,
-                Arg::Positional(0),
-                format!("duplicate beam ID {} (first at line {})", b.id, prev.line),
-            );
-        }
-        for (i, n) in b.nodes.iter().enumerate() {
-            if !node_ok(*n) {
-                out.push(
-                    b.pos,
-                    Arg::Positional(i + 1),
-                    format!("beam {} uses undefined node {n}", b.id),
-                );
-            }
-        }
-        if b.nodes[0] == b.nodes[1] {
-            out.push(
-                b.pos,
-                Arg::Positional(2),
-                format!("beam {} connects node {} to itself", b.id, b.nodes[0]),
-            );
-        }
-        if !materials.contains_key(b.material.as_str()) {
-            out.push(
-                b.pos,
-                Arg::Positional(3),
-                format!("beam {} uses undefined material `{}`", b.id, b.material),
-            );
-        }
-        if !sections.contains_key(b.section.as_str()) {
-            out.push(
-                b.pos,
-                Arg::Positional(4),
-                format!("beam {} uses undefined section `{}`", b.id, b.section),
-            );
-        }
-        if let Some(o) = &b.orient {
-            let v = o.vector;
-            if v.iter().any(|c| !c.is_finite()) || v.iter().all(|c| *c == 0.0) {
-                out.push(
-                    b.pos,
-                    Arg::At(o.pos),
-                    "orient must be a finite, non-zero vector",
-                );
-            } else if plane && (v[0] != 0.0 || v[2] != 0.0) {
-                out.push(
-                    b.pos,
-                    Arg::At(o.pos),
-                    "in `analysis plane` the local y axis is normal to the x–z plane: orient must be along global y (0,±1,0)",
-                );
-            }
-        }
-    }
-
-    let mut masses = BTreeMap::new();
-    for m in &deck.masses {
-        if let Some(prev) = masses.insert(m.id, m.pos) {
-            out.push(
-                m.pos,
-                Arg::Positional(0),
-                format!("duplicate mass ID {} (first at line {})", m.id, prev.line),
-            );
-        }
-        if !node_ok(m.node) {
-            out.push(
-                m.pos,
-                Arg::Positional(1),
-                format!("mass {} is on undefined node {}", m.id, m.node),
-            );
-        }
-        out.non_negative(m.pos, Arg::Key("m"), "mass `m`", m.m);
-        for (key, v) in [("Ixx", m.ixx), ("Iyy", m.iyy), ("Izz", m.izz)] {
-            if let Some(v) = v {
-                out.non_negative(m.pos, Arg::Key(key), &format!("rotary inertia `{key}`"), v);
-            }
-        }
-    }
-
-    let mut springs = BTreeMap::new();
-    for s in &deck.springs {
-        if let Some(prev) = springs.insert(s.id, s.pos) {
-            out.push(
-                s.pos,
-                Arg::Positional(0),
-                format!("duplicate spring ID {} (first at line {})", s.id, prev.line),
-            );
-        }
-        if !node_ok(s.node) {
-            out.push(
-                s.pos,
-                Arg::Positional(1),
-                format!("spring {} is on undefined node {}", s.id, s.node),
-            );
-        }
-        if !deck.analysis.has_dof(s.dof) {
-            out.push(
-                s.pos,
-                Arg::Positional(2),
-                format!(
-                    "DOF `{}` does not exist in `analysis plane` (DOFs x, z, ry)",
-                    s.dof.name()
-                ),
-            );
-        }
-        out.positive(s.pos, "k", "spring stiffness", s.k);
-        if let Some(to) = s.to {
-            if !node_ok(to) {
-                out.push(
-                    s.pos,
-                    Arg::Key("to"),
-                    format!("spring {} goes to undefined node {to}", s.id),
-                );
-            } else if to == s.node {
-                out.push(
-                    s.pos,
-                    Arg::Key("to"),
-                    format!("spring {} connects node {to} to itself", s.id),
-                );
-            }
-        }
-    }
-
-    for f in &deck.fixes {
-        if !node_ok(f.node) {
-            out.push(
-                f.pos,
-                Arg::Positional(0),
-                format!("`fix` on undefined node {}", f.node),
-            );
-        }
-        if let FixDofs::List(list) = &f.dofs {
-            if list.is_empty() {
-                out.push(f.pos, Arg::Positional(1), "`fix` lists no DOF");
-            }
-            for d in list {
-                if !deck.analysis.has_dof(*d) {
+                } else if to == s.node {
                     out.push(
-                        f.pos,
-                        Arg::Positional(1),
-                        format!(
-                            "DOF `{}` does not exist in `analysis plane` (DOFs x, z, ry)",
-                            d.name()
-                        ),
+                        s.pos,
+                        Arg::Key("to"),
+                        format!("spring {} connects node {to} to itself", s.id),
                     );
+                }
+            }
+        }
+        springs
+    }
+
+    fn fixes(&mut self, nodes: &Seen<u32>) {
+        let (out, analysis) = (&mut self.out, self.deck.analysis);
+        for f in &self.deck.fixes {
+            if !nodes.contains_key(&f.node) {
+                out.push(
+                    f.pos,
+                    Arg::Positional(0),
+                    format!("`fix` on undefined node {}", f.node),
+                );
+            }
+            if let FixDofs::List(list) = &f.dofs {
+                if list.is_empty() {
+                    out.push(f.pos, Arg::Positional(1), "`fix` lists no DOF");
+                }
+                for d in list {
+                    if !analysis.has_dof(*d) {
+                        out.push(f.pos, Arg::Positional(1), missing_dof(*d));
+                    }
                 }
             }
         }
     }
 
-    if let Some(d) = &deck.damping {
+    fn damping(&mut self) {
+        let Some(d) = &self.deck.damping else { return };
         let values: Vec<(&str, f64)> = match d.model {
             DampingModel::Modal { zeta } => vec![("ZETA", zeta)],
             DampingModel::Rayleigh { alpha, beta } => vec![("ALPHA", alpha), ("BETA", beta)],
             DampingModel::Hysteretic { eta } => vec![("ETA", eta)],
         };
         for (i, (name, v)) in values.into_iter().enumerate() {
-            out.non_negative(d.pos, Arg::Positional(i + 1), &format!("damping {name}"), v);
+            self.out
+                .non_negative(d.pos, Arg::Positional(i + 1), &format!("damping {name}"), v);
         }
     }
 
-    let mut params = BTreeMap::new();
-    let ids_of = |t: Target| -> Vec<u32> {
-        match t {
-            Target::Beam => beams.keys().copied().collect(),
-            Target::Mass => masses.keys().copied().collect(),
-            Target::Spring => springs.keys().copied().collect(),
-        }
-    };
-    let target_ids = [Target::Beam, Target::Mass, Target::Spring].map(|t| (t, ids_of(t)));
-    for p in &deck.params {
-        bad_name(&mut out, p.pos, "parameter", &p.name);
-        if let Some(prev) = params.insert(p.name.as_str(), p.pos) {
-            out.push(
-                p.pos,
-                Arg::Positional(0),
-                format!(
-                    "duplicate parameter `{}` (first at line {})",
-                    p.name, prev.line
-                ),
-            );
-        }
-        if plane && matches!(p.quantity, Quantity::Iz | Quantity::J) {
-            out.push(
-                p.pos,
-                Arg::Positional(1),
-                format!(
-                    "quantity `{}` does not apply in `analysis plane` (only bending in x–z, governed by Iy)",
-                    p.quantity.name()
-                ),
-            );
-        }
-        if p.ids.is_empty() {
-            out.push(p.pos, Arg::Positional(2), "`param` lists no ID");
-        }
-        param_bounds(&mut out, p);
-        let target = p.quantity.target();
-        let ids = &target_ids
-            .iter()
-            .find(|(t, _)| *t == target)
-            .map(|(_, v)| v.as_slice())
-            .unwrap_or(&[]);
-        for r in &p.ids {
-            let lo = ids.partition_point(|&i| i < r.first);
-            let hi = ids.partition_point(|&i| i <= r.last);
-            let present = (hi - lo) as u64;
-            let wanted = u64::from(r.last) - u64::from(r.first) + 1;
-            if r.first > r.last || present != wanted {
-                let missing = (r.first..=r.last)
-                    .find(|i| ids.binary_search(i).is_err())
-                    .unwrap_or(r.first);
+    /// `param` statements; `target_ids`: the IDs of each kind of statement
+    /// a quantity applies to, ascending.
+    fn params(&mut self, target_ids: [(Target, Vec<u32>); 3]) {
+        let (out, deck, plane) = (&mut self.out, self.deck, self.plane);
+        let mut params = BTreeMap::new();
+        for p in &deck.params {
+            bad_name(out, p.pos, "parameter", &p.name);
+            if let Some(prev) = params.insert(p.name.as_str(), p.pos) {
                 out.push(
                     p.pos,
-                    Arg::At(r.pos),
+                    Arg::Positional(0),
                     format!(
-                        "parameter `{}` on `{}` lists {} ID {missing}, which does not exist{}",
-                        p.name,
-                        p.quantity.name(),
-                        target.name(),
-                        other_kind_hint(deck, target, missing)
+                        "duplicate parameter `{}` (first at line {})",
+                        p.name, prev.line
+                    ),
+                );
+            }
+            if plane && matches!(p.quantity, Quantity::Iz | Quantity::J) {
+                out.push(
+                    p.pos,
+                    Arg::Positional(1),
+                    format!(
+                        "quantity `{}` does not apply in `analysis plane` (only bending in x–z, governed by Iy)",
+                        p.quantity.name()
+                    ),
+                );
+            }
+            if p.ids.is_empty() {
+                out.push(p.pos, Arg::Positional(2), "`param` lists no ID");
+            }
+            param_bounds(out, p);
+            let target = p.quantity.target();
+            let ids = target_ids
+                .iter()
+                .find(|(t, _)| *t == target)
+                .map(|(_, v)| v.as_slice())
+                .unwrap_or(&[]);
+            param_ids(out, deck, p, ids);
+        }
+    }
+
+    fn sensors(&mut self, nodes: &Seen<u32>) {
+        let out = &mut self.out;
+        let mut sensors = BTreeMap::new();
+        for s in &self.deck.sensors {
+            if let Some(prev) = sensors.insert(s.test_node, s.pos) {
+                out.push(
+                    s.pos,
+                    Arg::Positional(0),
+                    format!(
+                        "duplicate sensor for test node {} (first at line {})",
+                        s.test_node, prev.line
+                    ),
+                );
+            }
+            if !nodes.contains_key(&s.node) {
+                out.push(
+                    s.pos,
+                    Arg::Positional(1),
+                    format!(
+                        "sensor maps test node {} to undefined node {}",
+                        s.test_node, s.node
                     ),
                 );
             }
         }
     }
+}
 
-    let mut sensors = BTreeMap::new();
-    for s in &deck.sensors {
-        if let Some(prev) = sensors.insert(s.test_node, s.pos) {
+/// The message for a DOF that `analysis plane` does not have.
+fn missing_dof(dof: super::DeckDof) -> String {
+    format!(
+        "DOF `{}` does not exist in `analysis plane` (DOFs x, z, ry)",
+        dof.name()
+    )
+}
+
+/// A beam's `orient`: a finite non-zero vector, along global y in a plane
+/// analysis.
+fn orient(out: &mut Issues, pos: Pos, o: &super::Orient, plane: bool) {
+    let v = o.vector;
+    if v.iter().any(|c| !c.is_finite()) || v.iter().all(|c| *c == 0.0) {
+        out.push(
+            pos,
+            Arg::At(o.pos),
+            "orient must be a finite, non-zero vector",
+        );
+    } else if plane && (v[0] != 0.0 || v[2] != 0.0) {
+        out.push(
+            pos,
+            Arg::At(o.pos),
+            "in `analysis plane` the local y axis is normal to the x–z plane: orient must be along global y (0,±1,0)",
+        );
+    }
+}
+
+/// Every ID range of a `param` names existing statements of its target
+/// kind (`ids`, ascending).
+fn param_ids(out: &mut Issues, deck: &Deck, p: &super::Param, ids: &[u32]) {
+    let target = p.quantity.target();
+    for r in &p.ids {
+        let lo = ids.partition_point(|&i| i < r.first);
+        let hi = ids.partition_point(|&i| i <= r.last);
+        let present = (hi - lo) as u64;
+        let wanted = u64::from(r.last) - u64::from(r.first) + 1;
+        if r.first > r.last || present != wanted {
+            let missing = (r.first..=r.last)
+                .find(|i| ids.binary_search(i).is_err())
+                .unwrap_or(r.first);
             out.push(
-                s.pos,
-                Arg::Positional(0),
+                p.pos,
+                Arg::At(r.pos),
                 format!(
-                    "duplicate sensor for test node {} (first at line {})",
-                    s.test_node, prev.line
-                ),
-            );
-        }
-        if !node_ok(s.node) {
-            out.push(
-                s.pos,
-                Arg::Positional(1),
-                format!(
-                    "sensor maps test node {} to undefined node {}",
-                    s.test_node, s.node
+                    "parameter `{}` on `{}` lists {} ID {missing}, which does not exist{}",
+                    p.name,
+                    p.quantity.name(),
+                    target.name(),
+                    other_kind_hint(deck, target, missing)
                 ),
             );
         }
     }
-    out.0
 }
 
 /// Names are non-empty and free of blanks, `=`, `,` and `#` (so they can be written).

@@ -36,10 +36,40 @@ fn name(s: &str) -> String {
     }
 }
 
-/// Write a deck as text.
+/// Write a deck as text: titles, `analysis`, then one group of statements
+/// per kind, each group after a blank line.
 pub fn write(deck: &Deck) -> String {
     let mut s = String::new();
-    let n = format_number;
+    titles(&mut s, deck);
+    let _ = writeln!(s, "analysis {}", deck.analysis.name());
+    type Group = fn(&mut String, &Deck);
+    let groups: [(bool, Group); 8] = [
+        (!deck.materials.is_empty(), materials),
+        (!deck.sections.is_empty(), sections),
+        (!deck.nodes.is_empty(), nodes),
+        (!deck.beams.is_empty(), beams),
+        (
+            !deck.masses.is_empty() || !deck.springs.is_empty(),
+            masses_and_springs,
+        ),
+        (
+            !deck.fixes.is_empty() || deck.damping.is_some(),
+            fixes_and_damping,
+        ),
+        (!deck.params.is_empty(), params),
+        (!deck.sensors.is_empty(), sensors),
+    ];
+    for (present, group) in groups {
+        if present {
+            s.push('\n');
+            group(&mut s, deck);
+        }
+    }
+    s
+}
+
+/// `title` lines, one per line of each title (`#` would start a comment).
+fn titles(s: &mut String, deck: &Deck) {
     for t in &deck.titles {
         for line in t.text.split('\n') {
             let line = line.replace('#', "_");
@@ -51,10 +81,10 @@ pub fn write(deck: &Deck) -> String {
             }
         }
     }
-    let _ = writeln!(s, "analysis {}", deck.analysis.name());
-    if !deck.materials.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn materials(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for m in &deck.materials {
         let _ = write!(
             s,
@@ -71,9 +101,10 @@ pub fn write(deck: &Deck) -> String {
         }
         s.push('\n');
     }
-    if !deck.sections.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn sections(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for c in &deck.sections {
         let _ = write!(s, "section {} A={} Iy={}", name(&c.name), n(c.a), n(c.iy));
         for (key, v) in [("Iz", c.iz), ("J", c.j), ("ky", c.ky), ("kz", c.kz)] {
@@ -83,16 +114,18 @@ pub fn write(deck: &Deck) -> String {
         }
         s.push('\n');
     }
-    if !deck.nodes.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn nodes(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for nd in &deck.nodes {
         let [x, y, z] = nd.xyz;
         let _ = writeln!(s, "node {} {} {} {}", nd.id, n(x), n(y), n(z));
     }
-    if !deck.beams.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn beams(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for b in &deck.beams {
         let _ = write!(
             s,
@@ -112,9 +145,10 @@ pub fn write(deck: &Deck) -> String {
         }
         s.push('\n');
     }
-    if !deck.masses.is_empty() || !deck.springs.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn masses_and_springs(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for m in &deck.masses {
         let _ = write!(s, "mass {} {} m={}", m.id, m.node, n(m.m));
         for (key, v) in [("Ixx", m.ixx), ("Iyy", m.iyy), ("Izz", m.izz)] {
@@ -138,9 +172,10 @@ pub fn write(deck: &Deck) -> String {
         }
         s.push('\n');
     }
-    if !deck.fixes.is_empty() || deck.damping.is_some() {
-        s.push('\n');
-    }
+}
+
+fn fixes_and_damping(s: &mut String, deck: &Deck) {
+    let n = format_number;
     for f in &deck.fixes {
         let dofs = match &f.dofs {
             FixDofs::All => "all".to_string(),
@@ -157,9 +192,9 @@ pub fn write(deck: &Deck) -> String {
             DampingModel::Hysteretic { eta } => writeln!(s, "damping hysteretic {}", n(eta)),
         };
     }
-    if !deck.params.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn params(s: &mut String, deck: &Deck) {
     for p in &deck.params {
         let ids = p
             .ids
@@ -176,7 +211,7 @@ pub fn write(deck: &Deck) -> String {
         let mut bounds = String::new();
         for (key, v) in [("min", p.min), ("max", p.max), ("sd", p.sd)] {
             if let Some(v) = v {
-                bounds.push_str(&format!(" {key}={}", n(v)));
+                bounds.push_str(&format!(" {key}={}", format_number(v)));
             }
         }
         let _ = writeln!(
@@ -186,11 +221,10 @@ pub fn write(deck: &Deck) -> String {
             p.quantity.name()
         );
     }
-    if !deck.sensors.is_empty() {
-        s.push('\n');
-    }
+}
+
+fn sensors(s: &mut String, deck: &Deck) {
     for se in &deck.sensors {
         let _ = writeln!(s, "sensor {} {}", se.test_node, se.node);
     }
-    s
 }

@@ -107,34 +107,10 @@ enum Attempt {
 /// A [`Step::Direct`] dataset whose data the caller reads.
 #[derive(Debug)]
 pub(crate) struct Awaiting {
-    index: usize,
-    number: u32,
-    /// Line of the data, and their start (a file offset once returned).
-    data_line: usize,
-    data_start: usize,
+    /// Its data (their start a file offset once returned).
+    section: DataSection,
     /// Bytes of the data (the declared count).
     len: usize,
-    declared: i64,
-    record7: Record7,
-}
-
-impl Awaiting {
-    /// The error of the whole-file split when `available` bytes follow the
-    /// data start and no closing `-1` follows the declared byte count.
-    fn error(&self, available: usize) -> UffError {
-        let layouts = binary_layouts(&self.record7);
-        data_error(
-            &layouts,
-            &self.record7,
-            self.declared,
-            usize::try_from(self.declared).ok(),
-            available,
-            self.data_line,
-            self.data_start,
-            self.index,
-            self.number,
-        )
-    }
 }
 
 /// Splits a file into dataset blocks, incrementally.
@@ -237,7 +213,7 @@ impl Splitter {
     pub fn direct_truncated(&mut self, available: usize) -> UffError {
         self.finished = true;
         match self.awaiting.take() {
-            Some(a) => a.error(available),
+            Some(a) => a.section.error(available),
             None => error(
                 None,
                 self.base,
@@ -260,17 +236,17 @@ impl Splitter {
             }
             Ok(Some((line_start, after, breaks))) => {
                 self.pos = after;
-                self.number = a.data_line + breaks + 1;
+                self.number = a.section.data_line + breaks + 1;
                 self.blocks += 1;
                 Ok(Step::Closed {
-                    line: a.data_line + breaks,
+                    line: a.section.data_line + breaks,
                     offset: line_start,
                 })
             }
             Ok(None) => {
                 // All the declared bytes were read, and no `-1` follows them.
                 self.finished = true;
-                Err(a.error(a.len))
+                Err(a.section.error(a.len))
             }
         }
     }
@@ -322,7 +298,7 @@ impl Splitter {
                 Ok(Attempt::Direct(block, mut awaiting)) => {
                     self.pos = lines.pos;
                     self.number = lines.number;
-                    awaiting.data_start += self.base;
+                    awaiting.section.data_start += self.base;
                     self.awaiting = Some(awaiting);
                     return Ok(Step::Direct(block));
                 }
@@ -394,14 +370,18 @@ impl Splitter {
                 ),
             ));
         };
+        let opening = Opening {
+            line: number_line,
+            index,
+            number,
+        };
         if binary {
             let direct_min = self.direct_min;
             return Ok(
-                binary_block(bytes, lines, number_line, index, number, eof, direct_min)?
-                    .unwrap_or(Attempt::NeedMore),
+                binary_block(bytes, lines, &opening, eof, direct_min)?.unwrap_or(Attempt::NeedMore)
             );
         }
-        let block = text_block(lines, number_line, index, number)?;
+        let block = text_block(lines, &opening)?;
         Ok(block.map_or(Attempt::NeedMore, Attempt::Block))
     }
 }
@@ -439,14 +419,34 @@ pub(crate) fn split(bytes: &[u8]) -> (Split, Option<UffError>) {
     )
 }
 
-/// An ASCII dataset: every line up to the closing `-1`.
-/// `Ok(None)`: the buffer ends first.
-fn text_block(
-    lines: &mut Lines<'_>,
-    number_line: Line<'_>,
+/// Where a dataset starts: its number line, its index in the file and its
+/// number.
+struct Opening<'a> {
+    line: Line<'a>,
     index: usize,
     number: u32,
-) -> Result<Option<Block>, UffError> {
+}
+
+impl Opening<'_> {
+    /// An error of this dataset.
+    fn error(&self, line: Option<usize>, offset: usize, message: String) -> UffError {
+        error(line, offset, Some(self.index), Some(self.number), message)
+    }
+
+    /// An error on its number line.
+    fn header_error(&self, message: String) -> UffError {
+        self.error(Some(self.line.number), self.line.start, message)
+    }
+}
+
+/// An ASCII dataset: every line up to the closing `-1`.
+/// `Ok(None)`: the buffer ends first.
+fn text_block(lines: &mut Lines<'_>, opening: &Opening<'_>) -> Result<Option<Block>, UffError> {
+    let Opening {
+        line: number_line,
+        index,
+        number,
+    } = *opening;
     let text_start = lines.pos;
     for line in lines.by_ref() {
         if text::is_delimiter(line.text) {
@@ -554,73 +554,193 @@ macro_rules! need {
 /// the file.
 const DIRECT_MAX: usize = 64 << 20;
 
-/// The error when no byte count fits the data of a 58b dataset: truncated
-/// (`available` bytes follow the data start) or wrong byte count.
-#[allow(clippy::too_many_arguments)]
-fn data_error(
-    layouts: &[(Option<usize>, usize)],
-    record7: &Record7,
-    declared: i64,
-    declared_ok: Option<usize>,
-    available: usize,
+/// The data section of a 58b dataset: where it starts and what the header
+/// and record 7 say it holds.
+#[derive(Debug)]
+struct DataSection {
+    index: usize,
+    number: u32,
+    /// Line of the data, and their start (a buffer offset).
     data_line: usize,
     data_start: usize,
-    index: usize,
-    number: u32,
-) -> UffError {
-    let expected: Vec<String> = layouts
-        .iter()
-        .filter_map(|(b, _)| b.map(|b| b.to_string()))
-        .collect();
-    let message = if declared_ok.is_some_and(|d| d > available)
-        || layouts.iter().all(|(b, _)| b.is_none_or(|b| b > available))
-    {
-        format!(
-            "58b data truncated: header declares {declared} bytes and record 7 ({} points, ordinate type {}) needs {} bytes, but only {available} bytes follow",
-            record7.points,
-            record7.ordinate_type,
-            expected.join(" or ")
-        )
-    } else {
-        format!(
-            "wrong byte count in 58b: header declares {declared} bytes, record 7 ({} points, ordinate type {}) needs {} bytes, and no closing -1 follows either",
-            record7.points,
-            record7.ordinate_type,
-            expected.join(" or ")
-        )
-    };
-    error(
-        Some(data_line),
-        data_start,
-        Some(index),
-        Some(number),
-        message,
-    )
+    /// The header's byte count.
+    declared: i64,
+    record7: Record7,
 }
 
-/// A 58b dataset: header fields, ASCII records, then the binary data.
-/// `Ok(None)`: the buffer ends (not at `eof`) before the block is decided.
-/// With `direct_min`, data of an even function that match the declared
-/// byte count and extend at least that far beyond the buffer are left to
-/// the caller ([`Attempt::Direct`]).
-fn binary_block(
-    bytes: &[u8],
-    lines: &mut Lines<'_>,
-    number_line: Line<'_>,
-    index: usize,
-    number: u32,
-    eof: bool,
-    direct_min: Option<usize>,
-) -> Result<Option<Attempt>, UffError> {
-    let err = |line: Option<usize>, offset: usize, message: String| {
-        error(line, offset, Some(index), Some(number), message)
-    };
-    if number != 58 {
-        return Err(err(
-            Some(number_line.number),
-            number_line.start,
-            format!("binary form 'b' is only defined for dataset 58, found {number}b"),
-        ));
+/// Where the data of a 58b dataset end: their length, the abscissa bytes
+/// per point, the closing `-1`, and a note when the header's byte count was
+/// overruled.
+struct Placed {
+    len: usize,
+    abscissa_bytes: usize,
+    close: Closing,
+    note: Option<String>,
+}
+
+impl DataSection {
+    fn error_at_data(&self, message: String) -> UffError {
+        error(
+            Some(self.data_line),
+            self.data_start,
+            Some(self.index),
+            Some(self.number),
+            message,
+        )
+    }
+
+    /// The record 7 byte counts, as "a or b".
+    fn expected(&self) -> String {
+        let expected: Vec<String> = binary_layouts(&self.record7)
+            .iter()
+            .filter_map(|(b, _)| b.map(|b| b.to_string()))
+            .collect();
+        expected.join(" or ")
+    }
+
+    /// The layout (bytes, abscissa bytes) whose byte count is the declared one.
+    fn declared_layout(&self) -> Option<(usize, usize)> {
+        let declared = usize::try_from(self.declared).ok();
+        binary_layouts(&self.record7)
+            .into_iter()
+            .find_map(|(b, abscissa)| b.filter(|&b| Some(b) == declared).map(|b| (b, abscissa)))
+    }
+
+    /// The error when no byte count fits the data: truncated (`available`
+    /// bytes follow the data start) or wrong byte count.
+    fn error(&self, available: usize) -> UffError {
+        let (declared, r7) = (self.declared, &self.record7);
+        let declared_ok = usize::try_from(declared).ok();
+        let message = if declared_ok.is_some_and(|d| d > available)
+            || binary_layouts(r7)
+                .iter()
+                .all(|(b, _)| b.is_none_or(|b| b > available))
+        {
+            format!(
+                "58b data truncated: header declares {declared} bytes and record 7 ({} points, ordinate type {}) needs {} bytes, but only {available} bytes follow",
+                r7.points,
+                r7.ordinate_type,
+                self.expected()
+            )
+        } else {
+            format!(
+                "wrong byte count in 58b: header declares {declared} bytes, record 7 ({} points, ordinate type {}) needs {} bytes, and no closing -1 follows either",
+                r7.points,
+                r7.ordinate_type,
+                self.expected()
+            )
+        };
+        self.error_at_data(message)
+    }
+
+    /// The data's length and abscissa bytes when the caller should read them
+    /// itself ([`Attempt::Direct`]): an even function (one layout, so the
+    /// declared count is the data's length whatever follows; the closing
+    /// `-1` is checked after them) extending at least `direct_min` bytes
+    /// beyond the buffer.
+    fn direct(
+        &self,
+        available: usize,
+        eof: bool,
+        direct_min: Option<usize>,
+    ) -> Option<(usize, usize)> {
+        let (len, abscissa) = self.declared_layout()?;
+        let min = direct_min?;
+        (self.record7.even
+            && !eof
+            && len > available
+            && len - available >= min
+            && len <= DIRECT_MAX)
+            .then_some((len, abscissa))
+    }
+
+    /// Where the data end in `bytes`: the declared byte count if a `-1`
+    /// follows it and record 7 allows it, else the first length record 7
+    /// allows that a `-1` follows (with a note). `Ok(None)`: more bytes are
+    /// needed to decide.
+    fn place(&self, bytes: &[u8], eof: bool) -> Result<Option<Placed>, UffError> {
+        let available = bytes.len() - self.data_start;
+        let layouts = binary_layouts(&self.record7);
+        let declared_ok = usize::try_from(self.declared).ok();
+        let closing = |len: usize| closing_after(bytes, self.data_start + len, eof).ok();
+        if let Some((len, abscissa_bytes)) = self.declared_layout() {
+            if len <= available {
+                if let Some(close) = need!(closing(len)) {
+                    return Ok(Some(Placed {
+                        len,
+                        abscissa_bytes,
+                        close,
+                        note: None,
+                    }));
+                }
+            } else if !eof {
+                return Ok(None);
+            }
+        }
+        if !eof {
+            // What follows compares lengths with what the file holds: wait for
+            // every candidate length to be in the buffer (or for the file end).
+            let longest = layouts
+                .iter()
+                .filter_map(|(b, _)| *b)
+                .chain(declared_ok)
+                .max()
+                .unwrap_or(0);
+            if longest > available {
+                return Ok(None);
+            }
+        }
+        if let Some(d) = declared_ok.filter(|&d| d <= available) {
+            if need!(closing(d)).is_some() {
+                // The data hold what the header declares, but not what record 7 needs.
+                let r7 = &self.record7;
+                return Err(self.error_at_data(format!(
+                    "wrong byte count in 58b: header and data hold {} bytes, but record 7 ({} points, ordinate type {}) needs {}",
+                    self.declared,
+                    r7.points,
+                    r7.ordinate_type,
+                    self.expected()
+                )));
+            }
+        }
+        // Declared byte count inconsistent with record 7 (pyuff writes n*8 for
+        // complex data): accept the length record 7 implies if a `-1` follows it.
+        for &(len, abscissa_bytes) in &layouts {
+            let Some(len) = len.filter(|&l| l <= available) else {
+                continue;
+            };
+            if let Some(close) = need!(closing(len)) {
+                let note = format!(
+                    "line {}: 58b header declares {} bytes, but record 7 ({} points, ordinate type {}) implies {len}; read {len}",
+                    self.data_line, self.declared, self.record7.points, self.record7.ordinate_type
+                );
+                return Ok(Some(Placed {
+                    len,
+                    abscissa_bytes,
+                    close,
+                    note: Some(note),
+                }));
+            }
+        }
+        Err(self.error(available))
+    }
+}
+
+/// The fields of a 58b header line after `58b`: byte order, ASCII line
+/// count and byte count (the floating point format must be IEEE).
+struct BinaryHeader {
+    little_endian: bool,
+    ascii_lines: i64,
+    declared: i64,
+}
+
+fn binary_header(opening: &Opening<'_>) -> Result<BinaryHeader, UffError> {
+    let number_line = &opening.line;
+    if opening.number != 58 {
+        return Err(opening.header_error(format!(
+            "binary form 'b' is only defined for dataset 58, found {}b",
+            opening.number
+        )));
     }
     // Header fields after `58b`, separated by blanks (widths vary between writers).
     let fields: Option<Vec<i64>> = text::tokens(number_line.text)
@@ -631,14 +751,10 @@ fn binary_block(
     let header = match fields {
         Some(f) if f.len() == 4 => f,
         _ => {
-            return Err(err(
-                Some(number_line.number),
-                number_line.start,
-                format!(
-                    "58b header (format I6,1A1,I6,I6,I12,I12,...): expected byte order, floating point format, ASCII line count and byte count, found '{}'",
-                    text::excerpt(number_line.text)
-                ),
-            ))
+            return Err(opening.header_error(format!(
+                "58b header (format I6,1A1,I6,I6,I12,I12,...): expected byte order, floating point format, ASCII line count and byte count, found '{}'",
+                text::excerpt(number_line.text)
+            )))
         }
     };
     let (byte_order, fp_format, ascii_lines, declared) =
@@ -647,37 +763,42 @@ fn binary_block(
         1 => true,
         2 => false,
         _ => {
-            return Err(err(
-                Some(number_line.number),
-                number_line.start,
-                format!(
+            return Err(opening.header_error(format!(
                 "58b byte order must be 1 (little-endian) or 2 (big-endian), found {byte_order}"
-            ),
-            ))
+            )))
         }
     };
     if fp_format != 2 {
-        return Err(err(
-            Some(number_line.number),
-            number_line.start,
-            format!("58b floating point format must be 2 (IEEE 754), found {fp_format}"),
-        ));
+        return Err(opening.header_error(format!(
+            "58b floating point format must be 2 (IEEE 754), found {fp_format}"
+        )));
     }
     if !(11..=1000).contains(&ascii_lines) {
-        return Err(err(
-            Some(number_line.number),
-            number_line.start,
-            format!("58b ASCII line count must be 11 (records 1-11), found {ascii_lines}"),
-        ));
+        return Err(opening.header_error(format!(
+            "58b ASCII line count must be 11 (records 1-11), found {ascii_lines}"
+        )));
     }
-    let text_start = lines.pos;
+    Ok(BinaryHeader {
+        little_endian,
+        ascii_lines,
+        declared,
+    })
+}
+
+/// The ASCII lines of a 58b dataset (records 1-11): its record 7.
+/// `Ok(None)`: the buffer ends first.
+fn binary_text(
+    lines: &mut Lines<'_>,
+    opening: &Opening<'_>,
+    ascii_lines: i64,
+) -> Result<Option<Record7>, UffError> {
     let mut record7: Option<Record7> = None;
     for k in 0..ascii_lines as usize {
         let Some(line) = lines.next() else {
             if lines.incomplete {
                 return Ok(None);
             }
-            return Err(err(
+            return Err(opening.error(
                 Some(lines.number),
                 lines.pos,
                 format!(
@@ -686,153 +807,85 @@ fn binary_block(
             ));
         };
         if k == 6 {
-            record7 = Some(
-                function58::record7(line.text)
-                    .map_err(|m| err(Some(line.number), line.start, format!("record 7: {m}")))?,
-            );
+            record7 = Some(function58::record7(line.text).map_err(|m| {
+                opening.error(Some(line.number), line.start, format!("record 7: {m}"))
+            })?);
         }
     }
-    let text_end = lines.pos;
-    let data_line = lines.number;
-    let Some(record7) = record7 else {
-        return Err(err(
-            Some(data_line),
-            text_end,
+    match record7 {
+        Some(r7) => Ok(Some(r7)),
+        None => Err(opening.error(
+            Some(lines.number),
+            lines.pos,
             "58b header has no record 7".into(),
-        ));
+        )),
+    }
+}
+
+/// A 58b dataset: header fields, ASCII records, then the binary data.
+/// `Ok(None)`: the buffer ends (not at `eof`) before the block is decided.
+/// With `direct_min`, data of an even function that match the declared
+/// byte count and extend at least that far beyond the buffer are left to
+/// the caller ([`Attempt::Direct`]).
+fn binary_block(
+    bytes: &[u8],
+    lines: &mut Lines<'_>,
+    opening: &Opening<'_>,
+    eof: bool,
+    direct_min: Option<usize>,
+) -> Result<Option<Attempt>, UffError> {
+    let header = binary_header(opening)?;
+    let text_start = lines.pos;
+    let Some(record7) = binary_text(lines, opening, header.ascii_lines)? else {
+        return Ok(None);
     };
-    let data_start = lines.pos;
-    let available = bytes.len() - data_start;
-    let layouts = binary_layouts(&record7);
-    let declared_ok = usize::try_from(declared).ok();
-    let matches_declared = layouts
-        .iter()
-        .find(|(b, _)| b.is_some() && *b == declared_ok);
-    let mut chosen: Option<(usize, usize, Closing)> = None;
-    let mut note = None;
-    // `None` from here on: more bytes are needed to decide.
-    let closing = |pos: usize| closing_after(bytes, pos, eof).ok();
-    if let (Some(&(Some(len), abscissa)), Some(min)) = (matches_declared, direct_min) {
-        // An even function has one layout: the declared count is the data's
-        // length, whatever follows (the closing `-1` is checked after them).
-        if record7.even && !eof && len > available && len - available >= min && len <= DIRECT_MAX {
-            let block = Block {
-                index,
-                number,
-                line: number_line.number,
-                start: number_line.start,
-                text: text_start..text_end,
-                close_line: data_line,
-                close_offset: data_start + len,
-                binary: Some(Binary {
-                    little_endian,
-                    data: data_start..data_start + len,
-                    abscissa_bytes: abscissa,
-                    record7: record7.clone(),
-                }),
-                notes: Vec::new(),
-            };
-            let awaiting = Awaiting {
-                index,
-                number,
-                data_line,
-                data_start,
-                len,
-                declared,
-                record7,
-            };
-            return Ok(Some(Attempt::Direct(block, awaiting)));
-        }
-    }
-    if let Some(&(Some(len), abscissa)) = matches_declared {
-        if len <= available {
-            if let Some(close) = need!(closing(data_start + len)) {
-                chosen = Some((len, abscissa, close));
-            }
-        } else if !eof {
-            return Ok(None);
-        }
-    }
-    if chosen.is_none() && !eof {
-        // What follows compares lengths with what the file holds: wait for
-        // every candidate length to be in the buffer (or for the file end).
-        let longest = layouts
-            .iter()
-            .filter_map(|(b, _)| *b)
-            .chain(declared_ok)
-            .max()
-            .unwrap_or(0);
-        if longest > available {
-            return Ok(None);
-        }
-    }
-    if chosen.is_none() {
-        if let Some(d) = declared_ok.filter(|&d| d <= available) {
-            if need!(closing(data_start + d)).is_some() {
-                // The data hold what the header declares, but not what record 7 needs.
-                let expected: Vec<String> = layouts
-                    .iter()
-                    .filter_map(|(b, _)| b.map(|b| b.to_string()))
-                    .collect();
-                return Err(err(
-                    Some(data_line),
-                    data_start,
-                    format!(
-                        "wrong byte count in 58b: header and data hold {declared} bytes, but record 7 ({} points, ordinate type {}) needs {}",
-                        record7.points,
-                        record7.ordinate_type,
-                        expected.join(" or ")
-                    ),
-                ));
-            }
-        }
-    }
-    if chosen.is_none() {
-        // Declared byte count inconsistent with record 7 (pyuff writes n*8 for
-        // complex data): accept the length record 7 implies if a `-1` follows it.
-        for &(len, abscissa) in &layouts {
-            let Some(len) = len.filter(|&l| l <= available) else {
-                continue;
-            };
-            if let Some(close) = need!(closing(data_start + len)) {
-                note = Some(format!(
-                    "line {data_line}: 58b header declares {declared} bytes, but record 7 ({} points, ordinate type {}) implies {len}; read {len}",
-                    record7.points, record7.ordinate_type
-                ));
-                chosen = Some((len, abscissa, close));
-                break;
-            }
-        }
-    }
-    let Some((len, abscissa_bytes, (close_offset, after, breaks))) = chosen else {
-        return Err(data_error(
-            &layouts,
-            &record7,
-            declared,
-            declared_ok,
-            available,
-            data_line,
-            data_start,
-            index,
-            number,
-        ));
+    let section = DataSection {
+        index: opening.index,
+        number: opening.number,
+        data_line: lines.number,
+        data_start: lines.pos,
+        declared: header.declared,
+        record7,
     };
-    lines.pos = after;
-    lines.number = data_line + breaks + 1;
-    Ok(Some(Attempt::Block(Block {
-        index,
-        number,
-        line: number_line.number,
-        start: number_line.start,
-        text: text_start..text_end,
-        close_line: data_line + breaks,
+    let block = |len: usize, abscissa_bytes: usize, close_line, close_offset, notes| Block {
+        index: opening.index,
+        number: opening.number,
+        line: opening.line.number,
+        start: opening.line.start,
+        text: text_start..section.data_start,
+        close_line,
         close_offset,
         binary: Some(Binary {
-            little_endian,
-            data: data_start..data_start + len,
+            little_endian: header.little_endian,
+            data: section.data_start..section.data_start + len,
             abscissa_bytes,
-            record7,
+            record7: section.record7.clone(),
         }),
-        notes: note.into_iter().collect(),
-    })))
+        notes,
+    };
+    let available = bytes.len() - section.data_start;
+    if let Some((len, abscissa)) = section.direct(available, eof, direct_min) {
+        let block = block(
+            len,
+            abscissa,
+            section.data_line,
+            section.data_start + len,
+            Vec::new(),
+        );
+        return Ok(Some(Attempt::Direct(block, Awaiting { section, len })));
+    }
+    let Some(placed) = section.place(bytes, eof)? else {
+        return Ok(None);
+    };
+    let (close_offset, after, breaks) = placed.close;
+    let block = block(
+        placed.len,
+        placed.abscissa_bytes,
+        section.data_line + breaks,
+        close_offset,
+        placed.note.into_iter().collect(),
+    );
+    lines.pos = after;
+    lines.number = section.data_line + breaks + 1;
+    Ok(Some(Attempt::Block(block)))
 }

@@ -150,125 +150,226 @@ fn next_want(filled: usize, chunk: usize) -> usize {
 /// data is read, as the splitter returns no block before that; the next
 /// read is small ([`HEAD`]), so buffers mostly hold headers.
 fn produce<R: Read>(
-    mut r: R,
+    r: R,
     chunk: usize,
     stop: &AtomicUsize,
-    mut get_buffer: impl FnMut() -> Vec<u8>,
-    mut dispatch: impl FnMut(Job) -> bool,
+    get_buffer: impl FnMut() -> Vec<u8>,
+    dispatch: impl FnMut(Job) -> bool,
 ) -> Produced {
-    let chunk = chunk.max(1);
-    let head = chunk.min(HEAD);
-    let mut splitter = Splitter::default();
-    splitter.direct_min = Some(chunk.min(DIRECT_MIN));
-    let mut buf = get_buffer();
-    let mut filled = 0usize;
-    // The first read is small too: a 58b file's data then never pass through
-    // a chunk-sized buffer; a text file's first dataset asks for a chunk.
-    let (mut base, mut eof, mut want, mut jobs) = (0usize, false, head, 0usize);
-    // The job of a dataset whose data were read into its values, until the
-    // closing `-1` after them is found.
-    let mut pending: Option<Job> = None;
-    let mut direct = 0usize;
-    // Whether the workers still take jobs.
-    let mut open = true;
-    let mut send = |mut job: Job, jobs: &mut usize| {
-        job.seq = *jobs;
-        *jobs += 1;
-        dispatch(job)
-    };
-    let failure = 'outer: loop {
+    let mut p = Producer::new(r, chunk, get_buffer, dispatch);
+    let failure = loop {
         if stop.load(Ordering::Relaxed) != usize::MAX {
             // A dispatched dataset failed: it is the first error in file order.
             break None;
         }
-        if !eof && filled < want {
-            if buf.len() < want {
-                buf.resize(want, 0);
-            }
-            let (n, error) = read_full(&mut r, &mut buf[filled..want]);
-            filled += n;
-            if let Some(e) = error {
-                break Some(read_error(&e, base + filled));
-            }
-            eof = filled < want;
+        if let Err(e) = p.fill() {
+            break Some(e);
         }
-        let mut blocks = Vec::new();
-        let mut failure = None;
-        let mut direct_block = None;
-        let done = loop {
-            match splitter.next(&buf[..filled], eof) {
-                Ok(Step::Block(b)) => blocks.push(b),
+        let round = p.split();
+        if let Some(block) = round.direct {
+            match p.read_direct(block, round.blocks) {
+                Ok(()) => continue,
+                Err(e) => break Some(e),
+            }
+        }
+        if !p.open || p.hand_over(round.blocks, round.done) {
+            break round.failure;
+        }
+    };
+    p.finish(failure)
+}
+
+/// The reading side of [`produce`]: the buffer being filled, where it is
+/// in the file, and the jobs handed over so far.
+struct Producer<R, G, D> {
+    r: R,
+    chunk: usize,
+    /// Size of the read after 58b data read in place ([`HEAD`] or less).
+    head: usize,
+    get_buffer: G,
+    dispatch: D,
+    splitter: Splitter,
+    buf: Vec<u8>,
+    /// Bytes of `buf` read and not yet handed over.
+    filled: usize,
+    /// File offset of `buf[0]`.
+    base: usize,
+    eof: bool,
+    /// Bytes `buf` is to hold after the next read.
+    want: usize,
+    /// Jobs handed over.
+    jobs: usize,
+    /// The job of a dataset whose data were read into its values, until the
+    /// closing `-1` after them is found.
+    pending: Option<Job>,
+    /// 58b data sections read straight into their values.
+    direct: usize,
+    /// Whether the workers still take jobs.
+    open: bool,
+}
+
+/// What one pass of the splitter over the buffer found.
+struct Round {
+    /// Complete blocks, in order.
+    blocks: Vec<Block>,
+    /// A 58b dataset whose data the producer reads itself ([`Step::Direct`]).
+    direct: Option<Block>,
+    /// The split error, if any (a file offset).
+    failure: Option<UffError>,
+    /// No more blocks will come (file end, error, or workers gone).
+    done: bool,
+}
+
+impl<R: Read, G: FnMut() -> Vec<u8>, D: FnMut(Job) -> bool> Producer<R, G, D> {
+    fn new(r: R, chunk: usize, mut get_buffer: G, dispatch: D) -> Self {
+        let chunk = chunk.max(1);
+        let head = chunk.min(HEAD);
+        let mut splitter = Splitter::default();
+        splitter.direct_min = Some(chunk.min(DIRECT_MIN));
+        let buf = get_buffer();
+        Producer {
+            r,
+            chunk,
+            head,
+            get_buffer,
+            dispatch,
+            splitter,
+            buf,
+            filled: 0,
+            base: 0,
+            eof: false,
+            // The first read is small too: a 58b file's data then never pass
+            // through a chunk-sized buffer; a text file's first dataset asks
+            // for a chunk.
+            want: head,
+            jobs: 0,
+            pending: None,
+            direct: 0,
+            open: true,
+        }
+    }
+
+    /// Hands `job` over with the next sequence number; false when the
+    /// workers are gone.
+    fn send(&mut self, mut job: Job) -> bool {
+        job.seq = self.jobs;
+        self.jobs += 1;
+        (self.dispatch)(job)
+    }
+
+    /// Reads until the buffer holds `want` bytes or the file ends.
+    fn fill(&mut self) -> Result<(), UffError> {
+        if self.eof || self.filled >= self.want {
+            return Ok(());
+        }
+        if self.buf.len() < self.want {
+            self.buf.resize(self.want, 0);
+        }
+        let (n, error) = read_full(&mut self.r, &mut self.buf[self.filled..self.want]);
+        self.filled += n;
+        if let Some(e) = error {
+            return Err(read_error(&e, self.base + self.filled));
+        }
+        self.eof = self.filled < self.want;
+        Ok(())
+    }
+
+    /// Splits the buffer up to the first block it cannot complete; sends the
+    /// pending job when the `-1` closing its 58b data is found.
+    fn split(&mut self) -> Round {
+        let mut round = Round {
+            blocks: Vec::new(),
+            direct: None,
+            failure: None,
+            done: false,
+        };
+        round.done = loop {
+            match self.splitter.next(&self.buf[..self.filled], self.eof) {
+                Ok(Step::Block(b)) => round.blocks.push(b),
                 Ok(Step::Direct(b)) => {
-                    direct_block = Some(b);
+                    round.direct = Some(b);
                     break false;
                 }
                 Ok(Step::Closed { line, offset }) => {
                     // The first step of this buffer: nothing to order it after.
-                    if let Some(mut job) = pending.take() {
+                    if let Some(mut job) = self.pending.take() {
                         if let Some(b) = job.blocks.last_mut() {
                             b.close_line = line;
-                            b.close_offset = base + offset - job.base;
+                            b.close_offset = self.base + offset - job.base;
                         }
-                        if !send(job, &mut jobs) {
-                            open = false;
+                        if !self.send(job) {
+                            self.open = false;
                             break true;
                         }
                     }
                 }
-                Ok(Step::NeedMore) => break eof, // never at eof; stop rather than spin
+                Ok(Step::NeedMore) => break self.eof, // never at eof; stop rather than spin
                 Ok(Step::End) => break true,
                 Err(e) => {
-                    failure = Some(e); // already a file offset
+                    round.failure = Some(e); // already a file offset
                     break true;
                 }
             }
         };
-        if let Some(block) = direct_block {
-            let data = block.binary.as_ref().map_or(0..0, |b| b.data.clone());
-            let mut values = block
-                .binary
-                .as_ref()
-                .map(|b| function58::direct_storage(&b.record7));
-            let (got, error) = match values.as_mut() {
-                Some(v) => {
-                    let bytes = function58::direct_bytes(v);
-                    let have = filled - data.start;
-                    bytes[..have].copy_from_slice(&buf[data.start..filled]);
-                    let (n, error) = read_full(&mut r, &mut bytes[have..]);
-                    (have + n, error)
-                }
-                None => (0, None),
-            };
-            direct += 1;
-            // The job keeps the buffer up to the data.
-            buf.truncate(data.start);
-            blocks.push(block);
-            pending = Some(Job {
-                seq: 0,
-                base,
-                buf: std::mem::take(&mut buf),
-                blocks,
-                direct: values,
-            });
-            if let Some(e) = error {
-                break 'outer Some(read_error(&e, base + data.start + got));
+        round
+    }
+
+    /// Reads the data of `block` (a [`Step::Direct`] dataset) straight into
+    /// its values; the job of `blocks` and `block` waits for the closing
+    /// `-1` ([`Producer::pending`]) and reading goes on after the data.
+    fn read_direct(&mut self, block: Block, mut blocks: Vec<Block>) -> Result<(), UffError> {
+        let data = block.binary.as_ref().map_or(0..0, |b| b.data.clone());
+        let mut values = block
+            .binary
+            .as_ref()
+            .map(|b| function58::direct_storage(&b.record7));
+        let (got, error) = match values.as_mut() {
+            Some(v) => {
+                let bytes = function58::direct_bytes(v);
+                let have = self.filled - data.start;
+                bytes[..have].copy_from_slice(&self.buf[data.start..self.filled]);
+                let (n, error) = read_full(&mut self.r, &mut bytes[have..]);
+                (have + n, error)
             }
-            if got < data.len() {
-                break 'outer Some(splitter.direct_truncated(got));
-            }
-            base += data.end;
-            splitter.skip_direct(data.end);
-            buf = get_buffer();
-            filled = 0;
-            want = head;
-            continue;
+            None => (0, None),
+        };
+        self.direct += 1;
+        // The job keeps the buffer up to the data.
+        self.buf.truncate(data.start);
+        blocks.push(block);
+        self.pending = Some(Job {
+            seq: 0,
+            base: self.base,
+            buf: std::mem::take(&mut self.buf),
+            blocks,
+            direct: values,
+        });
+        if let Some(e) = error {
+            return Err(read_error(&e, self.base + data.start + got));
         }
-        if !open {
-            break failure;
+        if got < data.len() {
+            return Err(self.splitter.direct_truncated(got));
         }
-        let consumed = splitter.pos();
+        self.base += data.end;
+        self.splitter.skip_direct(data.end);
+        self.buf = (self.get_buffer)();
+        self.filled = 0;
+        self.want = self.head;
+        Ok(())
+    }
+
+    /// Hands the complete `blocks` over with their buffer (the unfinished
+    /// tail goes to the next buffer) and moves on; true when reading stops
+    /// (`done`, or the workers are gone).
+    fn hand_over(&mut self, blocks: Vec<Block>, done: bool) -> bool {
+        let (filled, chunk) = (self.filled, self.chunk);
+        let consumed = self.splitter.pos();
         if !blocks.is_empty() {
-            let mut next = if done { Vec::new() } else { get_buffer() };
+            let mut next = if done {
+                Vec::new()
+            } else {
+                (self.get_buffer)()
+            };
             let tail = filled - consumed;
             if !done {
                 if next.len() < tail {
@@ -276,46 +377,50 @@ fn produce<R: Read>(
                     next.reserve_exact(next_want(tail, chunk) - next.len());
                     next.resize(tail, 0);
                 }
-                next[..tail].copy_from_slice(&buf[consumed..filled]);
+                next[..tail].copy_from_slice(&self.buf[consumed..filled]);
             }
             // The job sees exactly its bytes.
-            buf.truncate(filled);
+            self.buf.truncate(filled);
             let job = Job {
                 seq: 0,
-                base,
-                buf: std::mem::replace(&mut buf, next),
+                base: self.base,
+                buf: std::mem::replace(&mut self.buf, next),
                 blocks,
                 direct: None,
             };
-            filled = if done { 0 } else { tail };
-            if !send(job, &mut jobs) {
-                break failure;
+            self.filled = if done { 0 } else { tail };
+            if !self.send(job) {
+                return true;
             }
         } else if consumed > 0 && !done {
-            buf.copy_within(consumed..filled, 0);
-            filled -= consumed;
+            self.buf.copy_within(consumed..filled, 0);
+            self.filled -= consumed;
         }
         if done {
-            break failure;
+            return true;
         }
-        base += consumed;
-        splitter.consume(consumed);
-        want = next_want(filled, chunk);
-    };
-    // A dataset whose closing `-1` was not found is not returned (the split
-    // failed on it); the blocks before it in its buffer are.
-    if let Some(mut job) = pending {
-        job.blocks.pop();
-        job.direct = None;
-        if open && failure.is_some() && !job.blocks.is_empty() {
-            send(job, &mut jobs);
-        }
+        self.base += consumed;
+        self.splitter.consume(consumed);
+        self.want = next_want(self.filled, chunk);
+        false
     }
-    Produced {
-        jobs,
-        notes: splitter.notes,
-        failure,
-        direct,
+
+    fn finish(mut self, failure: Option<UffError>) -> Produced {
+        // A dataset whose closing `-1` was not found is not returned (the split
+        // failed on it); the blocks before it in its buffer are.
+        if let Some(mut job) = self.pending.take() {
+            job.blocks.pop();
+            job.direct = None;
+            if self.open && failure.is_some() && !job.blocks.is_empty() {
+                self.send(job);
+            }
+        }
+        Produced {
+            jobs: self.jobs,
+            notes: self.splitter.notes,
+            failure,
+            direct: self.direct,
+        }
     }
 }
 
@@ -376,32 +481,86 @@ fn parse_counted<R: Read>(
     chunk: usize,
     threads: usize,
 ) -> (Result<UffFile, UffError>, usize) {
-    let stop = AtomicUsize::new(usize::MAX);
     if threads <= 1 {
-        let mut results = Vec::new();
-        // The parsed job's buffer is the next one to fill: two buffers in all
-        // (three while a 58b dataset's closing `-1` is awaited). A new one
-        // is allocated at the size of its first read.
-        let spare = std::cell::Cell::new(None::<Vec<u8>>);
-        let produced = produce(
-            r,
-            chunk,
-            &stop,
-            || spare.take().unwrap_or_default(),
-            |mut job| {
-                results.push(Some(run_job(&mut job, &stop)));
-                if job.buf.capacity() <= 4 * chunk {
-                    spare.set(Some(job.buf));
-                }
-                true
-            },
-        );
-        let direct = produced.direct;
-        return (assemble(produced, results), direct);
+        parse_serial(r, chunk)
+    } else {
+        parse_parallel(r, chunk, threads)
     }
+}
+
+/// [`parse_counted`] on the calling thread alone.
+fn parse_serial<R: Read>(r: R, chunk: usize) -> (Result<UffFile, UffError>, usize) {
+    let stop = AtomicUsize::new(usize::MAX);
+    let mut results = Vec::new();
+    // The parsed job's buffer is the next one to fill: two buffers in all
+    // (three while a 58b dataset's closing `-1` is awaited). A new one
+    // is allocated at the size of its first read.
+    let spare = std::cell::Cell::new(None::<Vec<u8>>);
+    let produced = produce(
+        r,
+        chunk,
+        &stop,
+        || spare.take().unwrap_or_default(),
+        |mut job| {
+            results.push(Some(run_job(&mut job, &stop)));
+            if job.buf.capacity() <= 4 * chunk {
+                spare.set(Some(job.buf));
+            }
+            true
+        },
+    );
+    let direct = produced.direct;
+    (assemble(produced, results), direct)
+}
+
+/// Results of one job, sent back by its worker.
+type JobResults = (usize, Vec<BlockResult>);
+
+/// A worker: parses jobs until the queue closes; sends their results, then
+/// their buffer back.
+fn work(
+    jobs: &Mutex<mpsc::Receiver<Job>>,
+    results: &mpsc::Sender<JobResults>,
+    free: &mpsc::Sender<Vec<u8>>,
+    stop: &AtomicUsize,
+    chunk: usize,
+) {
+    loop {
+        let job = match jobs.lock() {
+            Ok(rx) => rx.recv(),
+            Err(_) => break,
+        };
+        let Ok(mut job) = job else { break };
+        let parsed = if job.seq > stop.load(Ordering::Relaxed) {
+            Vec::new() // after the first error: not needed
+        } else {
+            run_job(&mut job, stop)
+        };
+        if results.send((job.seq, parsed)).is_err() {
+            break;
+        }
+        // Give back a normal-sized buffer with its (initialised)
+        // contents as scratch; a big dataset's buffer is freed
+        // (an empty one stands for it).
+        let buf = if job.buf.capacity() <= 4 * chunk {
+            job.buf
+        } else {
+            Vec::new()
+        };
+        let _ = free.send(buf);
+    }
+}
+
+/// [`parse_counted`] with `threads` workers.
+fn parse_parallel<R: Read>(
+    r: R,
+    chunk: usize,
+    threads: usize,
+) -> (Result<UffFile, UffError>, usize) {
+    let stop = AtomicUsize::new(usize::MAX);
     let (job_tx, job_rx) = mpsc::sync_channel::<Job>(threads);
     let job_rx = Arc::new(Mutex::new(job_rx));
-    let (res_tx, res_rx) = mpsc::channel::<(usize, Vec<BlockResult>)>();
+    let (res_tx, res_rx) = mpsc::channel::<JobResults>();
     let (free_tx, free_rx) = mpsc::channel::<Vec<u8>>();
     std::thread::scope(|scope| {
         // Workers are started with the first job handed over: a file whose
@@ -412,30 +571,7 @@ fn parse_counted<R: Read>(
             for _ in 0..threads {
                 let (job_rx, res_tx, free_tx, stop) =
                     (Arc::clone(&job_rx), res_tx.clone(), free_tx.clone(), &stop);
-                scope.spawn(move || loop {
-                    let job = match job_rx.lock() {
-                        Ok(rx) => rx.recv(),
-                        Err(_) => break,
-                    };
-                    let Ok(mut job) = job else { break };
-                    let results = if job.seq > stop.load(Ordering::Relaxed) {
-                        Vec::new() // after the first error: not needed
-                    } else {
-                        run_job(&mut job, stop)
-                    };
-                    if res_tx.send((job.seq, results)).is_err() {
-                        break;
-                    }
-                    // Give back a normal-sized buffer with its (initialised)
-                    // contents as scratch; a big dataset's buffer is freed
-                    // (an empty one stands for it).
-                    let buf = if job.buf.capacity() <= 4 * chunk {
-                        job.buf
-                    } else {
-                        Vec::new()
-                    };
-                    let _ = free_tx.send(buf);
-                });
+                scope.spawn(move || work(&job_rx, &res_tx, &free_tx, stop, chunk));
             }
         };
         let mut free_tx = Some(free_tx);
