@@ -17,6 +17,10 @@ pub mod output;
 pub mod refit;
 pub mod select;
 
+mod final_damping;
+mod first_stage;
+mod search;
+
 use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
@@ -27,6 +31,7 @@ use crate::updating::{self, UpdateOptions};
 use data::TestData;
 use fit::{DampingForm, DampingState, Mask};
 use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
+use search::Search;
 use select::{Engine, FitRequest, HypFit, LogSearch};
 
 pub use crate::updating::fullband::{data, fit};
@@ -140,7 +145,10 @@ pub struct Diagnosis {
     pub timings: Vec<(&'static str, f64, usize)>,
 }
 
-/// Run the diagnosis of `deck` against `test`.
+/// Run the diagnosis of `deck` against `test`: the test data the model
+/// places, the deck's own parameters updated (step 1), extensions searched
+/// greedily from each start (steps 2–4), then the damping of the
+/// extended model.
 pub fn diagnose(
     deck: &Deck,
     test: &MeasuredFrfs,
@@ -154,247 +162,36 @@ pub fn diagnose(
         clock = std::time::Instant::now();
         solved = evaluations;
     };
-    let mut data = TestData::new(test)?;
     // Channels the model cannot place are ignored.
-    let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
-    if fe.measured_dof(data.input.0, data.input.1).is_none() {
-        return Err(DiagnoseError::Data(format!(
-            "the excitation {} is not a free DOF of the model",
-            crate::testdata::dof_label(data.input.0 as i64, data.input.1)
-        )));
-    }
-    let keep: Vec<bool> = data
-        .channels
-        .iter()
-        .map(|c| fe.measured_dof(c.node, c.direction).is_some())
-        .collect();
-    let ignored_channels: Vec<String> = data
-        .channels
-        .iter()
-        .zip(&keep)
-        .filter(|(_, k)| !**k)
-        .map(|(c, _)| c.label.clone())
-        .collect();
-    data.retain_channels(&keep);
-    if data.channels.is_empty() {
-        return Err(DiagnoseError::Data(
-            "no test channel matches a free DOF of the model".into(),
-        ));
-    }
+    let (data, ignored_channels) = search::placed_test_data(deck, test)?;
     let engine = Engine::new(&data);
-    let j0 = engine.noise_level();
-    let zeta0 = data.half_power_zeta();
-    let deck_damping = hdamp::of_deck(deck);
-    let deck_form = DampingForm::of(deck_damping);
-    let start_damping = fit::start_damping(deck_damping, &data);
-
+    let search = Search::new(&engine, deck, test, opts);
     lap("prepare test data", 0);
+
     // 1. The deck as given, then with its own parameters updated.
-    let initial = quality(&engine, deck, &start_damping)?;
-    let mut update_note = None;
-    let mut updated_parameters = ParameterValues::new();
-    let mut updated_deck = deck.clone();
-    if !opts.skip_update && !deck.params.is_empty() {
-        match updating::update(deck, test, &opts.update) {
-            Ok(res) => {
-                updated_parameters = res.parameter_values();
-                updated_deck = model::updated_deck(deck, &updated_parameters);
-                update_note = Some(format!(
-                    "update {} after {} iteration(s)",
-                    res.stop.name(),
-                    res.iterations.len().saturating_sub(1)
-                ));
-            }
-            Err(e) => update_note = Some(format!("update failed ({e}); deck values kept")),
-        }
-    }
-    // Polish the deck's parameters on all lines and channels (the paper's
-    // update uses a few updating frequencies only).
-    if !opts.skip_update && !deck.params.is_empty() {
-        if let Some(f0) = engine.fit(&FitRequest::damping(
-            &updated_deck,
-            &start_damping,
-            &engine.all,
-        )) {
-            if let Some((values, _, c)) = fit::fit_deck_parameters(
-                deck,
-                &updated_parameters,
-                &f0.damping,
-                &data,
-                &engine.all,
-                8,
-                &engine.evaluations,
-            ) {
-                if c < f0.cost {
-                    updated_deck = model::updated_deck(deck, &values);
-                    updated_parameters = values;
-                }
-            }
-        }
-    }
-    // Keep the update only if it does not worsen the damping-profiled fit.
-    let c_init = engine
-        .fit(&FitRequest::damping(deck, &start_damping, &engine.all))
-        .map_or(f64::INFINITY, |f| f.cost);
-    let c_upd = engine
-        .fit(&FitRequest::damping(
-            &updated_deck,
-            &start_damping,
-            &engine.all,
-        ))
-        .map_or(f64::INFINITY, |f| f.cost);
-    if c_upd > c_init * 1.02 && updated_deck != *deck {
-        updated_deck = deck.clone();
-        updated_parameters.clear();
-        update_note = Some(format!(
-            "{}; the updated values fitted the FRFs worse and were not kept",
-            update_note.unwrap_or_default()
-        ));
-    }
-    let updated = quality(&engine, &updated_deck, &start_damping)?;
-    let first_stage_deck = updated_deck.clone();
+    let initial = quality(&engine, deck, &search.start_damping)?;
+    let first = first_stage::update_own_parameters(&search);
+    let updated = quality(&engine, &first.deck, &search.start_damping)?;
     lap("update the deck's parameters", engine.evaluations.get());
 
-    // 2.–4. Greedy extensions, from the updated deck and (if the update
-    // changed it) from the deck as given: an update can absorb missing
-    // physics into the deck's parameters. After extensions are found, the
-    // deck's parameters are updated again on the extended deck.
-    let mut starts = vec![updated_deck.clone()];
-    if updated_deck != *deck {
-        starts.push(deck.clone());
-    }
-    let mut best: Option<Greedy> = None;
-    for start in &starts {
-        // The updated deck (first start) already at the noise level: the
-        // deck as given has nothing to add.
-        if best.as_ref().is_some_and(|b| b.cost <= 1.25 * j0) {
-            break;
-        }
-        let Some(mut g) = greedy(&engine, start, deck_form.clone(), zeta0, j0, opts)? else {
-            continue;
-        };
-        if !opts.skip_update && !deck.params.is_empty() && !g.accepted.is_empty() {
-            let mut ext = deck.clone();
-            for (h, v) in &g.accepted {
-                ext = h.apply(&ext, *v);
-            }
-            let paper = updating::update(&ext, test, &opts.update)
-                .map(|r| r.parameter_values())
-                .unwrap_or_default();
-            let polished = fit::fit_deck_parameters(
-                &ext,
-                &paper,
-                &g.damp,
-                &data,
-                &engine.all,
-                8,
-                &engine.evaluations,
-            )
-            .map(|(v, _, _)| v);
-            if let Some(values) = polished {
-                let cand = model::updated_deck(&ext, &values);
-                if let Some(f) = engine.fit(&FitRequest::damping(&cand, &g.damp, &engine.all)) {
-                    if f.cost < g.cost {
-                        g.current = cand;
-                        g.damp = f.damping.clone();
-                        g.cost = f.cost;
-                        g.v = engine.validate(None, &g.current, &f);
-                        g.parameters = Some(values);
-                    }
-                }
-            }
-        }
-        let better = match &best {
-            None => true,
-            Some(b) => g.v < b.v - select::margin(b.v, j0),
-        };
-        if better {
-            best = Some(g);
-        }
-    }
+    // 2.–4. Greedy extensions from each start.
+    let best = search.extensions_from_starts(&first.deck)?;
     lap("search extensions (all starts)", engine.evaluations.get());
     let Some(g) = best else {
         return Err(DiagnoseError::Eigen(
             "the updated model gives no usable FRF".into(),
         ));
     };
-    let Greedy {
-        findings: mut_findings,
-        current,
-        mut damp,
-        rejected,
-        localisation,
-        parameters,
-        ..
-    } = g;
-    let mut findings = mut_findings;
-    // The damping form chosen before the extensions may have compensated
-    // for them: choose it again on the extended model.
-    if let Some((d2, _)) = select::choose_damping(&engine, &current, deck_form.clone(), zeta0) {
-        let c_now = engine
-            .fit(&FitRequest::damping(&current, &damp, &engine.all))
-            .map_or(f64::INFINITY, |f| f.cost);
-        let c_new = engine
-            .fit(&FitRequest::damping(&current, &d2, &engine.all))
-            .map_or(f64::INFINITY, |f| f.cost);
-        if c_new <= c_now
-            || d2.form == deck_form.as_ref().map_or(DampingForm::Modal, |d| d.0)
-                && c_new < c_now * 1.03
-        {
-            damp = d2;
-        }
-    }
-    if let Some(p) = parameters {
-        updated_parameters = p;
-    }
-    // Damping: a finding when the deck has none, or when the fitted damping
-    // predicts held-out data better than the deck's.
-    let final_fit = engine
-        .fit(&FitRequest {
-            with_std: true,
-            ..FitRequest::damping(&current, &damp, &engine.all)
-        })
-        .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
-    damp = final_fit.damping.clone();
+
+    // The damping of the extended model.
+    let current = g.current;
+    let damp = final_damping::choose_form_again(&search, &current, g.damp);
+    let final_fit = final_damping::fit_final_damping(&search, &current, &damp)?;
+    let damp = final_fit.damping.clone();
     let v_fitted = engine.validate(None, &current, &final_fit);
-    let damping_finding = match &deck_form {
-        None => Some(f64::INFINITY),
-        Some((form, x)) => {
-            let deck_state = DampingState {
-                form: *form,
-                x: x.clone(),
-            };
-            let v_deck = engine.validate_fixed_damping(&current, &deck_state);
-            (v_fitted < v_deck - select::margin(v_deck, j0)).then_some(v_deck)
-        }
-    };
-    if let Some(before) = damping_finding {
-        let mut parameters = BTreeMap::new();
-        let mut uncertainty = BTreeMap::new();
-        for (i, name) in damp.form.parameter_names().iter().enumerate() {
-            let x = damp.x[i].exp();
-            parameters.insert(name.to_string(), x);
-            let s = final_fit
-                .damping_std_log
-                .get(i)
-                .copied()
-                .unwrap_or(f64::INFINITY);
-            uncertainty.insert(name.to_string(), s * x);
-        }
-        findings.insert(
-            0,
-            Finding {
-                physics: Physics::Damping,
-                nodes: vec![],
-                dofs: vec![],
-                parameters,
-                uncertainty,
-                validation_error_before: before,
-                validation_error_after: v_fitted,
-                label: format!("{} damping", damp.form.name()),
-                indistinguishable_from: vec![],
-            },
-        );
+    let mut findings = g.findings;
+    if let Some(f) = final_damping::damping_finding(&search, &current, &final_fit, v_fitted) {
+        findings.insert(0, f);
     }
     let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
     // Round trip through the writer so the deck is exactly what a file gives.
@@ -403,7 +200,7 @@ pub fn diagnose(
         DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
     })?;
     let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
-    let at_noise_level = final_fit.cost <= 1.25 * j0;
+    let at_noise_level = final_fit.cost <= 1.25 * search.j0;
     lap("damping and final scores", engine.evaluations.get());
     Ok(Diagnosis {
         findings,
@@ -411,12 +208,12 @@ pub fn diagnose(
         updated,
         diagnosed,
         diagnosed_deck,
-        updated_deck: first_stage_deck,
-        updated_parameters,
-        update_note,
-        noise_level: j0,
-        localisation,
-        rejected,
+        updated_deck: first.deck,
+        updated_parameters: g.parameters.unwrap_or(first.parameters),
+        update_note: first.note,
+        noise_level: search.j0,
+        localisation: g.localisation,
+        rejected: g.rejected,
         channels: data.channels.iter().map(|c| c.label.clone()).collect(),
         ignored_channels,
         model_evaluations: engine.evaluations.get(),
