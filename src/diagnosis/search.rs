@@ -6,9 +6,10 @@ use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
 use super::fit::{self, DampingForm, DampingState};
+use super::greedy::{self, Greedy};
 use super::hypotheses::damping as hdamp;
 use super::select::{self, Engine, FitRequest};
-use super::{greedy, DiagnoseError, DiagnoseOptions, Greedy};
+use super::{DiagnoseError, DiagnoseOptions};
 use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use crate::updating;
@@ -77,15 +78,7 @@ impl<'a> Search<'a> {
             if best.as_ref().is_some_and(|b| b.cost <= 1.25 * self.j0) {
                 break;
             }
-            let Some(mut g) = greedy(
-                self.engine,
-                start,
-                self.deck_form.clone(),
-                self.zeta0,
-                self.j0,
-                self.opts,
-            )?
-            else {
+            let Some(mut g) = greedy::search(self, start)? else {
                 continue;
             };
             if self.updates_parameters() && !g.accepted.is_empty() {
