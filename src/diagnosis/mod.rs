@@ -18,6 +18,11 @@ pub mod localise;
 pub mod refit;
 pub mod select;
 
+mod final_damping;
+mod first_stage;
+mod greedy;
+mod search;
+
 use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
@@ -26,8 +31,9 @@ use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use crate::updating::{self, UpdateOptions};
 use data::TestData;
-use fit::{DampingForm, DampingState, Mask};
+use fit::{DampingState, Mask};
 use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
+use search::Search;
 use select::{Engine, FitRequest, HypFit, LogSearch};
 
 pub use crate::updating::fullband::{data, fit};
@@ -140,7 +146,10 @@ pub struct Diagnosis {
     pub timings: Vec<(&'static str, f64, usize)>,
 }
 
-/// Run the diagnosis of `deck` against `test`.
+/// Run the diagnosis of `deck` against `test`: the test data the model
+/// places, the deck's own parameters updated (step 1), extensions searched
+/// greedily from each start (steps 2–4), then the damping of the
+/// extended model.
 pub fn diagnose(
     deck: &Deck,
     test: &MeasuredFrfs,
@@ -154,247 +163,36 @@ pub fn diagnose(
         clock = std::time::Instant::now();
         solved = evaluations;
     };
-    let mut data = TestData::new(test)?;
     // Channels the model cannot place are ignored.
-    let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
-    if fe.measured_dof(data.input.0, data.input.1).is_none() {
-        return Err(DiagnoseError::Data(format!(
-            "the excitation {} is not a free DOF of the model",
-            crate::testdata::dof_label(data.input.0 as i64, data.input.1)
-        )));
-    }
-    let keep: Vec<bool> = data
-        .channels
-        .iter()
-        .map(|c| fe.measured_dof(c.node, c.direction).is_some())
-        .collect();
-    let ignored_channels: Vec<String> = data
-        .channels
-        .iter()
-        .zip(&keep)
-        .filter(|(_, k)| !**k)
-        .map(|(c, _)| c.label.clone())
-        .collect();
-    data.retain_channels(&keep);
-    if data.channels.is_empty() {
-        return Err(DiagnoseError::Data(
-            "no test channel matches a free DOF of the model".into(),
-        ));
-    }
+    let (data, ignored_channels) = search::placed_test_data(deck, test)?;
     let engine = Engine::new(&data);
-    let j0 = engine.noise_level();
-    let zeta0 = data.half_power_zeta();
-    let deck_damping = hdamp::of_deck(deck);
-    let deck_form = DampingForm::of(deck_damping);
-    let start_damping = fit::start_damping(deck_damping, &data);
-
+    let search = Search::new(&engine, deck, test, opts);
     lap("prepare test data", 0);
+
     // 1. The deck as given, then with its own parameters updated.
-    let initial = quality(&engine, deck, &start_damping)?;
-    let mut update_note = None;
-    let mut updated_parameters = ParameterValues::new();
-    let mut updated_deck = deck.clone();
-    if !opts.skip_update && !deck.params.is_empty() {
-        match updating::update(deck, test, &opts.update) {
-            Ok(res) => {
-                updated_parameters = res.parameter_values();
-                updated_deck = model::updated_deck(deck, &updated_parameters);
-                update_note = Some(format!(
-                    "update {} after {} iteration(s)",
-                    res.stop.name(),
-                    res.iterations.len().saturating_sub(1)
-                ));
-            }
-            Err(e) => update_note = Some(format!("update failed ({e}); deck values kept")),
-        }
-    }
-    // Polish the deck's parameters on all lines and channels (the paper's
-    // update uses a few updating frequencies only).
-    if !opts.skip_update && !deck.params.is_empty() {
-        if let Some(f0) = engine.fit(&FitRequest::damping(
-            &updated_deck,
-            &start_damping,
-            &engine.all,
-        )) {
-            if let Some((values, _, c)) = fit::fit_deck_parameters(
-                deck,
-                &updated_parameters,
-                &f0.damping,
-                &data,
-                &engine.all,
-                8,
-                &engine.evaluations,
-            ) {
-                if c < f0.cost {
-                    updated_deck = model::updated_deck(deck, &values);
-                    updated_parameters = values;
-                }
-            }
-        }
-    }
-    // Keep the update only if it does not worsen the damping-profiled fit.
-    let c_init = engine
-        .fit(&FitRequest::damping(deck, &start_damping, &engine.all))
-        .map_or(f64::INFINITY, |f| f.cost);
-    let c_upd = engine
-        .fit(&FitRequest::damping(
-            &updated_deck,
-            &start_damping,
-            &engine.all,
-        ))
-        .map_or(f64::INFINITY, |f| f.cost);
-    if c_upd > c_init * 1.02 && updated_deck != *deck {
-        updated_deck = deck.clone();
-        updated_parameters.clear();
-        update_note = Some(format!(
-            "{}; the updated values fitted the FRFs worse and were not kept",
-            update_note.unwrap_or_default()
-        ));
-    }
-    let updated = quality(&engine, &updated_deck, &start_damping)?;
-    let first_stage_deck = updated_deck.clone();
+    let initial = quality(&engine, deck, &search.start_damping)?;
+    let first = first_stage::update_own_parameters(&search);
+    let updated = quality(&engine, &first.deck, &search.start_damping)?;
     lap("update the deck's parameters", engine.evaluations.get());
 
-    // 2.–4. Greedy extensions, from the updated deck and (if the update
-    // changed it) from the deck as given: an update can absorb missing
-    // physics into the deck's parameters. After extensions are found, the
-    // deck's parameters are updated again on the extended deck.
-    let mut starts = vec![updated_deck.clone()];
-    if updated_deck != *deck {
-        starts.push(deck.clone());
-    }
-    let mut best: Option<Greedy> = None;
-    for start in &starts {
-        // The updated deck (first start) already at the noise level: the
-        // deck as given has nothing to add.
-        if best.as_ref().is_some_and(|b| b.cost <= 1.25 * j0) {
-            break;
-        }
-        let Some(mut g) = greedy(&engine, start, deck_form.clone(), zeta0, j0, opts)? else {
-            continue;
-        };
-        if !opts.skip_update && !deck.params.is_empty() && !g.accepted.is_empty() {
-            let mut ext = deck.clone();
-            for (h, v) in &g.accepted {
-                ext = h.apply(&ext, *v);
-            }
-            let paper = updating::update(&ext, test, &opts.update)
-                .map(|r| r.parameter_values())
-                .unwrap_or_default();
-            let polished = fit::fit_deck_parameters(
-                &ext,
-                &paper,
-                &g.damp,
-                &data,
-                &engine.all,
-                8,
-                &engine.evaluations,
-            )
-            .map(|(v, _, _)| v);
-            if let Some(values) = polished {
-                let cand = model::updated_deck(&ext, &values);
-                if let Some(f) = engine.fit(&FitRequest::damping(&cand, &g.damp, &engine.all)) {
-                    if f.cost < g.cost {
-                        g.current = cand;
-                        g.damp = f.damping.clone();
-                        g.cost = f.cost;
-                        g.v = engine.validate(None, &g.current, &f);
-                        g.parameters = Some(values);
-                    }
-                }
-            }
-        }
-        let better = match &best {
-            None => true,
-            Some(b) => g.v < b.v - select::margin(b.v, j0),
-        };
-        if better {
-            best = Some(g);
-        }
-    }
+    // 2.–4. Greedy extensions from each start.
+    let best = search.extensions_from_starts(&first.deck)?;
     lap("search extensions (all starts)", engine.evaluations.get());
     let Some(g) = best else {
         return Err(DiagnoseError::Eigen(
             "the updated model gives no usable FRF".into(),
         ));
     };
-    let Greedy {
-        findings: mut_findings,
-        current,
-        mut damp,
-        rejected,
-        localisation,
-        parameters,
-        ..
-    } = g;
-    let mut findings = mut_findings;
-    // The damping form chosen before the extensions may have compensated
-    // for them: choose it again on the extended model.
-    if let Some((d2, _)) = select::choose_damping(&engine, &current, deck_form.clone(), zeta0) {
-        let c_now = engine
-            .fit(&FitRequest::damping(&current, &damp, &engine.all))
-            .map_or(f64::INFINITY, |f| f.cost);
-        let c_new = engine
-            .fit(&FitRequest::damping(&current, &d2, &engine.all))
-            .map_or(f64::INFINITY, |f| f.cost);
-        if c_new <= c_now
-            || d2.form == deck_form.as_ref().map_or(DampingForm::Modal, |d| d.0)
-                && c_new < c_now * 1.03
-        {
-            damp = d2;
-        }
-    }
-    if let Some(p) = parameters {
-        updated_parameters = p;
-    }
-    // Damping: a finding when the deck has none, or when the fitted damping
-    // predicts held-out data better than the deck's.
-    let final_fit = engine
-        .fit(&FitRequest {
-            with_std: true,
-            ..FitRequest::damping(&current, &damp, &engine.all)
-        })
-        .ok_or_else(|| DiagnoseError::Eigen("the diagnosed model gives no usable FRF".into()))?;
-    damp = final_fit.damping.clone();
+
+    // The damping of the extended model.
+    let current = g.current;
+    let damp = final_damping::choose_form_again(&search, &current, g.damp);
+    let final_fit = final_damping::fit_final_damping(&search, &current, &damp)?;
+    let damp = final_fit.damping.clone();
     let v_fitted = engine.validate(None, &current, &final_fit);
-    let damping_finding = match &deck_form {
-        None => Some(f64::INFINITY),
-        Some((form, x)) => {
-            let deck_state = DampingState {
-                form: *form,
-                x: x.clone(),
-            };
-            let v_deck = engine.validate_fixed_damping(&current, &deck_state);
-            (v_fitted < v_deck - select::margin(v_deck, j0)).then_some(v_deck)
-        }
-    };
-    if let Some(before) = damping_finding {
-        let mut parameters = BTreeMap::new();
-        let mut uncertainty = BTreeMap::new();
-        for (i, name) in damp.form.parameter_names().iter().enumerate() {
-            let x = damp.x[i].exp();
-            parameters.insert(name.to_string(), x);
-            let s = final_fit
-                .damping_std_log
-                .get(i)
-                .copied()
-                .unwrap_or(f64::INFINITY);
-            uncertainty.insert(name.to_string(), s * x);
-        }
-        findings.insert(
-            0,
-            Finding {
-                physics: Physics::Damping,
-                nodes: vec![],
-                dofs: vec![],
-                parameters,
-                uncertainty,
-                validation_error_before: before,
-                validation_error_after: v_fitted,
-                label: format!("{} damping", damp.form.name()),
-                indistinguishable_from: vec![],
-            },
-        );
+    let mut findings = g.findings;
+    if let Some(f) = final_damping::damping_finding(&search, &current, &final_fit, v_fitted) {
+        findings.insert(0, f);
     }
     let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
     // Round trip through the writer so the deck is exactly what a file gives.
@@ -403,7 +201,7 @@ pub fn diagnose(
         DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
     })?;
     let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
-    let at_noise_level = final_fit.cost <= 1.25 * j0;
+    let at_noise_level = final_fit.cost <= 1.25 * search.j0;
     lap("damping and final scores", engine.evaluations.get());
     Ok(Diagnosis {
         findings,
@@ -411,12 +209,12 @@ pub fn diagnose(
         updated,
         diagnosed,
         diagnosed_deck,
-        updated_deck: first_stage_deck,
-        updated_parameters,
-        update_note,
-        noise_level: j0,
-        localisation,
-        rejected,
+        updated_deck: first.deck,
+        updated_parameters: g.parameters.unwrap_or(first.parameters),
+        update_note: first.note,
+        noise_level: search.j0,
+        localisation: g.localisation,
+        rejected: g.rejected,
         channels: data.channels.iter().map(|c| c.label.clone()).collect(),
         ignored_channels,
         model_evaluations: engine.evaluations.get(),
@@ -424,377 +222,6 @@ pub fn diagnose(
         at_noise_level,
         timings,
     })
-}
-
-/// Outcome of one greedy search.
-struct Greedy {
-    findings: Vec<Finding>,
-    accepted: Vec<(Hypothesis, Option<f64>)>,
-    current: Deck,
-    damp: DampingState,
-    cost: f64,
-    v: f64,
-    rejected: Vec<Rejected>,
-    localisation: Vec<(u32, f64, String)>,
-    /// Deck parameters re-updated on the extended deck.
-    parameters: Option<ParameterValues>,
-}
-
-/// Greedy search from `start`: damping form, then extensions one at a time.
-fn greedy(
-    engine: &Engine,
-    start: &Deck,
-    deck_form: Option<(DampingForm, Vec<f64>)>,
-    zeta0: f64,
-    j0: f64,
-    opts: &DiagnoseOptions,
-) -> Result<Option<Greedy>, DiagnoseError> {
-    let data = engine.data;
-    let Some((mut damp, _forms)) = select::choose_damping(engine, start, deck_form, zeta0) else {
-        return Ok(None);
-    };
-    let Some(base_fit) = engine.fit(&FitRequest::damping(start, &damp, &engine.all)) else {
-        return Ok(None);
-    };
-    // The deck the accepted extensions are applied to: `start`, with the
-    // deck's parameters moved when an extension was fitted along with them.
-    let mut base = start.clone();
-    let mut current = start.clone();
-    damp = base_fit.damping.clone();
-    let mut cost = base_fit.cost;
-    let mut v_cur = engine.validate(None, &current, &base_fit);
-    let mut findings = Vec::new();
-    let mut rejected = Vec::new();
-    let mut localisation = Vec::new();
-    let mut used_labels: Vec<String> = Vec::new();
-    let mut accepted_list: Vec<(Hypothesis, Option<f64>)> = Vec::new();
-    for round in 0..opts.max_findings {
-        if findings.len() >= opts.max_findings
-            || cost <= 1.25 * j0
-            || engine.evaluations.get() > opts.evaluation_budget
-        {
-            break;
-        }
-        let step = search_round(engine, &current, &damp, data, opts, &used_labels)?;
-        if round == 0 {
-            localisation = step.localisation.clone();
-        }
-        let m = select::margin(v_cur, j0);
-        let mut scored: Vec<(Hypothesis, HypFit, f64)> = Vec::new();
-        for (h, f, v) in step.validated {
-            let reason = if f.on_bound {
-                Some("fit ends on a bound".to_string())
-            } else if f.std.is_some_and(|s| !(s < f.value.unwrap_or(0.0))) {
-                Some("uncertainty exceeds the value".to_string())
-            } else if !(v < v_cur - m) {
-                Some(format!(
-                    "validation error {v:.4} not below {:.4} − margin {m:.4}",
-                    v_cur
-                ))
-            } else {
-                None
-            };
-            match reason {
-                Some(r) => rejected.push(Rejected {
-                    label: h.label.clone(),
-                    round: round + 1,
-                    value: f.value,
-                    validation_error: v,
-                    reason: r,
-                }),
-                None => scored.push((h, f, v)),
-            }
-        }
-        scored.sort_by(|a, b| a.2.total_cmp(&b.2));
-        // Two effects can mask each other so that neither fits alone: when
-        // the best single extension leaves the fit far from the noise level,
-        // pairs of the best-fitting candidates are fitted jointly.
-        let single_cost = scored.first().map_or(cost, |s| s.1.cost);
-        let pair = if opts.max_findings - findings.len() >= 2
-            && single_cost > 4.0 * j0
-            && engine.evaluations.get() <= opts.evaluation_budget
-        {
-            pair_search(
-                engine,
-                &base,
-                &accepted_list,
-                &step.fitted,
-                &damp,
-                step.large,
-            )
-        } else {
-            None
-        };
-        let v_single = scored.first().map_or(v_cur, |s| s.2);
-        if let Some(p) = pair.filter(|p| p.v < v_single - select::margin(v_single, j0)) {
-            for (o, fo, vo) in &scored {
-                rejected.push(Rejected {
-                    label: o.label.clone(),
-                    round: round + 1,
-                    value: fo.value,
-                    validation_error: *vo,
-                    reason: format!(
-                        "a pair fitted jointly predicts better ({} and {})",
-                        p.hyps[0].label, p.hyps[1].label
-                    ),
-                });
-            }
-            let v_before = v_cur;
-            for h in &p.hyps {
-                used_labels.push(h.label.clone());
-                accepted_list.push((h.clone(), None));
-                findings.push(Finding {
-                    physics: h.physics,
-                    nodes: h.nodes.clone(),
-                    dofs: h.dofs.clone(),
-                    parameters: BTreeMap::new(),
-                    uncertainty: BTreeMap::new(),
-                    validation_error_before: v_before,
-                    validation_error_after: p.v,
-                    label: format!("{} (fitted jointly with the next)", h.label),
-                    indistinguishable_from: vec![],
-                });
-            }
-            if let Some(last) = findings.last_mut() {
-                last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
-            }
-            set_values(&mut accepted_list, &mut findings, &p.fit);
-            current = apply_accepted(&base, &accepted_list);
-            damp = p.fit.damping.clone();
-            cost = p.fit.cost;
-            v_cur = p.v;
-            continue;
-        }
-        let Some((h, f, v)) = scored.first().cloned() else {
-            break;
-        };
-        let alternatives: Vec<String> = scored
-            .iter()
-            .skip(1)
-            .filter(|(o, _, vo)| *vo < v + m && o.label != h.label)
-            .map(|(o, fo, vo)| {
-                format!(
-                    "{} ({}validation error {vo:.4})",
-                    o.label,
-                    fo.value
-                        .zip(o.param.as_ref())
-                        .map(|(x, p)| format!("{} = {} {}, ", p.name, sig(x), p.unit))
-                        .unwrap_or_default()
-                )
-            })
-            .collect();
-        for (o, fo, vo) in scored.iter().skip(1) {
-            rejected.push(Rejected {
-                label: o.label.clone(),
-                round: round + 1,
-                value: fo.value,
-                validation_error: *vo,
-                reason: format!("a better hypothesis was accepted ({})", h.label),
-            });
-        }
-        let mut parameters = BTreeMap::new();
-        let mut uncertainty = BTreeMap::new();
-        if let (Some(p), Some(x)) = (&h.param, f.value) {
-            parameters.insert(p.name.to_string(), x);
-            uncertainty.insert(p.name.to_string(), f.std.unwrap_or(f64::INFINITY));
-        }
-        findings.push(Finding {
-            physics: h.physics,
-            nodes: h.nodes.clone(),
-            dofs: h.dofs.clone(),
-            parameters,
-            uncertainty,
-            validation_error_before: v_cur,
-            validation_error_after: v,
-            label: h.label.clone(),
-            indistinguishable_from: alternatives,
-        });
-        used_labels.push(h.label.clone());
-        accepted_list.push((h.clone(), f.value));
-        if !f.deck_values.is_empty() {
-            base = model::updated_deck(&base, &f.deck_values);
-        }
-        current = apply_accepted(&base, &accepted_list);
-        damp = f.damping.clone();
-        cost = f.cost;
-        v_cur = v;
-        // Re-estimate the earlier extensions' values together with the new
-        // one: each was fitted while the others were missing.
-        if accepted_list.len() > 1 {
-            let hyps: Vec<&Hypothesis> = accepted_list.iter().map(|a| &a.0).collect();
-            let logs: Vec<f64> = accepted_list
-                .iter()
-                .filter_map(|a| a.1.map(f64::ln))
-                .collect();
-            let settings = refit::JointSettings {
-                frequency_stage: false,
-                iterations: 8,
-            };
-            let problem = refit::Joint::new(&base, hyps);
-            if let Some(jf) = refit::fit_joint(
-                engine,
-                &problem,
-                std::slice::from_ref(&logs),
-                &damp,
-                &engine.all,
-                settings,
-            ) {
-                if jf.cost < cost && !jf.on_bound.iter().any(|b| *b) {
-                    let vj = refit::validate_joint(engine, &problem, &jf);
-                    if vj <= v_cur {
-                        set_values(&mut accepted_list, &mut findings, &jf);
-                        current = apply_accepted(&base, &accepted_list);
-                        damp = jf.damping.clone();
-                        cost = jf.cost;
-                        v_cur = vj;
-                        if let Some(last) = findings.last_mut() {
-                            last.validation_error_after = vj;
-                        }
-                    }
-                }
-            }
-        }
-        // The damping form may have compensated for what was missing.
-        if let Some((d2, forms)) =
-            select::choose_damping(engine, &current, Some((damp.form, damp.x.clone())), zeta0)
-        {
-            let c2 = forms
-                .iter()
-                .find(|x| x.0 == d2.form)
-                .map_or(f64::INFINITY, |x| x.1);
-            if d2.form != damp.form && c2 < cost {
-                if let Some(bf) = engine.fit(&FitRequest::damping(&current, &d2, &engine.all)) {
-                    damp = bf.damping.clone();
-                    cost = bf.cost;
-                    v_cur = engine.validate(None, &current, &bf);
-                }
-            }
-        }
-    }
-
-    Ok(Some(Greedy {
-        findings,
-        accepted: accepted_list,
-        current,
-        damp,
-        cost,
-        v: v_cur,
-        rejected,
-        localisation,
-        parameters: None,
-    }))
-}
-
-/// `start` with the accepted extensions at their values.
-fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
-    accepted
-        .iter()
-        .fold(start.clone(), |d, (h, v)| h.apply(&d, *v))
-}
-
-/// Write the values and uncertainties of a joint fit over all accepted
-/// extensions (in order) into the list and the findings.
-fn set_values(
-    accepted: &mut [(Hypothesis, Option<f64>)],
-    findings: &mut [Finding],
-    jf: &refit::JointFit,
-) {
-    let mut k = 0;
-    for (i, (h, v)) in accepted.iter_mut().enumerate() {
-        let Some(p) = &h.param else {
-            continue;
-        };
-        let x = jf.logs[k].exp();
-        *v = Some(x);
-        if let Some(f) = findings.get_mut(i) {
-            f.parameters.insert(p.name.to_string(), x);
-            f.uncertainty.insert(p.name.to_string(), jf.std_log[k] * x);
-        }
-        k += 1;
-    }
-}
-
-/// A pair of extensions fitted jointly (with the accepted ones re-estimated).
-struct PairFit {
-    hyps: [Hypothesis; 2],
-    fit: refit::JointFit,
-    v: f64,
-}
-
-/// Joint fits of pairs among the best-fitting single candidates of a round
-/// (after the accepted extensions), each from a grid of starts through the
-/// resonance-frequency stage; the pair that predicts held-out data best,
-/// if its fit is well determined and inside the bounds.
-fn pair_search(
-    engine: &Engine,
-    start: &Deck,
-    accepted: &[(Hypothesis, Option<f64>)],
-    fitted: &[(Hypothesis, HypFit)],
-    damp: &DampingState,
-    large: bool,
-) -> Option<PairFit> {
-    let pool: Vec<&(Hypothesis, HypFit)> = fitted
-        .iter()
-        .filter(|(h, _)| h.physics != Physics::Suspension)
-        .take(if large { 3 } else { 5 })
-        .collect();
-    let per_axis = if large { 3 } else { 4 };
-    let mut best: Option<PairFit> = None;
-    for a in 0..pool.len() {
-        for b in a + 1..pool.len() {
-            let (ha, fa) = pool[a];
-            let (hb, fb) = pool[b];
-            if ha.param.is_none() && hb.param.is_none() {
-                continue;
-            }
-            let mut hyps: Vec<&Hypothesis> = accepted.iter().map(|x| &x.0).collect();
-            hyps.push(ha);
-            hyps.push(hb);
-            let mut fixed: Vec<Option<f64>> = accepted
-                .iter()
-                .filter_map(|x| x.0.param.as_ref().map(|_| x.1.map(f64::ln)))
-                .collect();
-            let n_acc = fixed.len();
-            let singles: Vec<Option<f64>> = [(ha, fa), (hb, fb)]
-                .iter()
-                .filter(|(h, _)| h.param.is_some())
-                .map(|(_, f)| f.log_value)
-                .collect();
-            let mut from_singles = fixed.iter().map(|x| x.unwrap_or(0.0)).collect::<Vec<_>>();
-            from_singles.extend(singles.iter().map(|x| x.unwrap_or(0.0)));
-            fixed.extend(singles.iter().map(|_| None));
-            let problem = refit::Joint::new(start, hyps);
-            let (lo, hi) = problem.bounds();
-            let mut starts = refit::grid_starts(&lo, &hi, &fixed, per_axis);
-            starts.push(from_singles);
-            let settings = refit::JointSettings {
-                frequency_stage: true,
-                iterations: 12,
-            };
-            let Some(jf) = refit::fit_joint(engine, &problem, &starts, damp, &engine.all, settings)
-            else {
-                continue;
-            };
-            let new = n_acc..jf.logs.len();
-            if jf.on_bound[new.clone()].iter().any(|x| *x)
-                || jf.std_log[new].iter().any(|s| !(*s < 1.0))
-            {
-                continue;
-            }
-            if best.as_ref().is_some_and(|p| p.fit.cost <= jf.cost) {
-                continue;
-            }
-            let v = refit::validate_joint(engine, &problem, &jf);
-            if best.as_ref().is_none_or(|p| v < p.v) {
-                best = Some(PairFit {
-                    hyps: [ha.clone(), hb.clone()],
-                    fit: jf,
-                    v,
-                });
-            }
-        }
-    }
-    best
 }
 
 /// Number with 4 significant digits.

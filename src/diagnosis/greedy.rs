@@ -1,0 +1,455 @@
+//! The greedy search from one starting deck (steps 2–4): choose the damping
+//! form, then round after round fit and validate candidate extensions
+//! ([`super::search_round`]) and accept the one that predicts held-out data
+//! best by more than the margin, or a pair fitted jointly when two effects
+//! mask each other; after each acceptance the earlier extensions are
+//! re-estimated jointly and the damping form is chosen again. The search
+//! stops at the noise level, at `max_findings`, when the evaluation budget
+//! is spent or when no candidate passes.
+
+use std::collections::BTreeMap;
+
+use frfup_parsers::deck::Deck;
+
+use super::fit::DampingState;
+use super::hypotheses::{Hypothesis, Physics};
+use super::refit;
+use super::search::Search;
+use super::select::{self, Engine, FitRequest, HypFit};
+use super::{search_round, sig, DiagnoseError, Finding, Rejected, Round};
+use crate::model::{self, ParameterValues};
+
+/// The state, then the outcome, of one greedy search.
+pub(super) struct Greedy {
+    pub findings: Vec<Finding>,
+    /// The accepted extensions in order, with their values (`None`: no
+    /// parameter).
+    pub accepted: Vec<(Hypothesis, Option<f64>)>,
+    /// The deck the accepted extensions are applied to: the start, with the
+    /// deck's parameters moved when an extension was fitted along with them.
+    pub base: Deck,
+    /// `base` with the accepted extensions, its damping, its cost on all
+    /// data and its validation cost.
+    pub current: Deck,
+    pub damp: DampingState,
+    pub cost: f64,
+    pub v: f64,
+    pub rejected: Vec<Rejected>,
+    /// The node scores of the first round.
+    pub localisation: Vec<(u32, f64, String)>,
+    /// Deck parameters re-updated on the extended deck.
+    pub parameters: Option<ParameterValues>,
+}
+
+/// Greedy search from `start`: damping form, then extensions one at a time.
+/// `None` if no damping form gives a usable model.
+pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, DiagnoseError> {
+    let Some(mut g) = Greedy::start(search, start) else {
+        return Ok(None);
+    };
+    let (engine, opts) = (search.engine, search.opts);
+    for round in 0..opts.max_findings {
+        if g.findings.len() >= opts.max_findings
+            || g.cost <= 1.25 * search.j0
+            || engine.evaluations.get() > opts.evaluation_budget
+        {
+            break;
+        }
+        let used = g.used_labels();
+        let step = search_round(engine, &g.current, &g.damp, engine.data, opts, &used)?;
+        if round == 0 {
+            g.localisation = step.localisation.clone();
+        }
+        if !g.take_round(search, round, step) {
+            break;
+        }
+    }
+    Ok(Some(g))
+}
+
+impl Greedy {
+    /// `start` with the damping form chosen and fitted, nothing accepted.
+    fn start(search: &Search, start: &Deck) -> Option<Greedy> {
+        let engine = search.engine;
+        let (damp, _forms) =
+            select::choose_damping(engine, start, search.deck_form.clone(), search.zeta0)?;
+        let base_fit = engine.fit(&FitRequest::damping(start, &damp, &engine.all))?;
+        Some(Greedy {
+            findings: Vec::new(),
+            accepted: Vec::new(),
+            base: start.clone(),
+            current: start.clone(),
+            damp: base_fit.damping.clone(),
+            cost: base_fit.cost,
+            v: engine.validate(None, start, &base_fit),
+            rejected: Vec::new(),
+            localisation: Vec::new(),
+            parameters: None,
+        })
+    }
+
+    /// Labels of the accepted extensions (not proposed again).
+    fn used_labels(&self) -> Vec<String> {
+        self.accepted.iter().map(|(h, _)| h.label.clone()).collect()
+    }
+
+    /// Accept what round `round` (0-based) found, if anything: a pair fitted
+    /// jointly when it predicts better than the best single candidate, else
+    /// that candidate. Returns false when nothing was accepted.
+    fn take_round(&mut self, search: &Search, round: usize, step: Round) -> bool {
+        let (engine, opts, j0) = (search.engine, search.opts, search.j0);
+        let m = select::margin(self.v, j0);
+        let mut scored = self.judge(round, step.validated, m);
+        scored.sort_by(|a, b| a.2.total_cmp(&b.2));
+        // Two effects can mask each other so that neither fits alone: when
+        // the best single extension leaves the fit far from the noise level,
+        // pairs of the best-fitting candidates are fitted jointly.
+        let single_cost = scored.first().map_or(self.cost, |s| s.1.cost);
+        let pair = if opts.max_findings - self.findings.len() >= 2
+            && single_cost > 4.0 * j0
+            && engine.evaluations.get() <= opts.evaluation_budget
+        {
+            pair_search(
+                engine,
+                &self.base,
+                &self.accepted,
+                &step.fitted,
+                &self.damp,
+                step.large,
+            )
+        } else {
+            None
+        };
+        let v_single = scored.first().map_or(self.v, |s| s.2);
+        if let Some(p) = pair.filter(|p| p.v < v_single - select::margin(v_single, j0)) {
+            self.accept_pair(round, p, &scored);
+            return true;
+        }
+        let Some(best) = scored.first().cloned() else {
+            return false;
+        };
+        self.accept_single(round, best, &scored, m);
+        self.reestimate_jointly(engine);
+        self.choose_damping_form_again(search);
+        true
+    }
+
+    /// The validated candidates that pass (their fit inside the bounds, the
+    /// uncertainty below the value, the validation error below the current
+    /// one by more than the margin `m`); the others are recorded as rejected.
+    fn judge(
+        &mut self,
+        round: usize,
+        validated: Vec<(Hypothesis, HypFit, f64)>,
+        m: f64,
+    ) -> Vec<(Hypothesis, HypFit, f64)> {
+        let v_cur = self.v;
+        let mut scored = Vec::new();
+        for (h, f, v) in validated {
+            let reason = if f.on_bound {
+                Some("fit ends on a bound".to_string())
+            } else if f.std.is_some_and(|s| !(s < f.value.unwrap_or(0.0))) {
+                Some("uncertainty exceeds the value".to_string())
+            } else if !(v < v_cur - m) {
+                Some(format!(
+                    "validation error {v:.4} not below {:.4} − margin {m:.4}",
+                    v_cur
+                ))
+            } else {
+                None
+            };
+            match reason {
+                Some(r) => self.rejected.push(Rejected {
+                    label: h.label.clone(),
+                    round: round + 1,
+                    value: f.value,
+                    validation_error: v,
+                    reason: r,
+                }),
+                None => scored.push((h, f, v)),
+            }
+        }
+        scored
+    }
+
+    /// Accept the pair `p` (both extensions, fitted jointly with the
+    /// accepted ones); every single candidate of the round is rejected.
+    fn accept_pair(&mut self, round: usize, p: PairFit, scored: &[(Hypothesis, HypFit, f64)]) {
+        for (o, fo, vo) in scored {
+            self.rejected.push(Rejected {
+                label: o.label.clone(),
+                round: round + 1,
+                value: fo.value,
+                validation_error: *vo,
+                reason: format!(
+                    "a pair fitted jointly predicts better ({} and {})",
+                    p.hyps[0].label, p.hyps[1].label
+                ),
+            });
+        }
+        let v_before = self.v;
+        for h in &p.hyps {
+            self.accepted.push((h.clone(), None));
+            self.findings.push(Finding {
+                physics: h.physics,
+                nodes: h.nodes.clone(),
+                dofs: h.dofs.clone(),
+                parameters: BTreeMap::new(),
+                uncertainty: BTreeMap::new(),
+                validation_error_before: v_before,
+                validation_error_after: p.v,
+                label: format!("{} (fitted jointly with the next)", h.label),
+                indistinguishable_from: vec![],
+            });
+        }
+        if let Some(last) = self.findings.last_mut() {
+            last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
+        }
+        set_values(&mut self.accepted, &mut self.findings, &p.fit);
+        self.current = apply_accepted(&self.base, &self.accepted);
+        self.damp = p.fit.damping.clone();
+        self.cost = p.fit.cost;
+        self.v = p.v;
+    }
+
+    /// Accept the best single candidate `(h, f, v)`; the others of the round
+    /// are rejected, and those within the margin `m` of it are named as
+    /// indistinguishable from it.
+    fn accept_single(
+        &mut self,
+        round: usize,
+        (h, f, v): (Hypothesis, HypFit, f64),
+        scored: &[(Hypothesis, HypFit, f64)],
+        m: f64,
+    ) {
+        let alternatives: Vec<String> = scored
+            .iter()
+            .skip(1)
+            .filter(|(o, _, vo)| *vo < v + m && o.label != h.label)
+            .map(|(o, fo, vo)| {
+                format!(
+                    "{} ({}validation error {vo:.4})",
+                    o.label,
+                    fo.value
+                        .zip(o.param.as_ref())
+                        .map(|(x, p)| format!("{} = {} {}, ", p.name, sig(x), p.unit))
+                        .unwrap_or_default()
+                )
+            })
+            .collect();
+        for (o, fo, vo) in scored.iter().skip(1) {
+            self.rejected.push(Rejected {
+                label: o.label.clone(),
+                round: round + 1,
+                value: fo.value,
+                validation_error: *vo,
+                reason: format!("a better hypothesis was accepted ({})", h.label),
+            });
+        }
+        let mut parameters = BTreeMap::new();
+        let mut uncertainty = BTreeMap::new();
+        if let (Some(p), Some(x)) = (&h.param, f.value) {
+            parameters.insert(p.name.to_string(), x);
+            uncertainty.insert(p.name.to_string(), f.std.unwrap_or(f64::INFINITY));
+        }
+        self.findings.push(Finding {
+            physics: h.physics,
+            nodes: h.nodes.clone(),
+            dofs: h.dofs.clone(),
+            parameters,
+            uncertainty,
+            validation_error_before: self.v,
+            validation_error_after: v,
+            label: h.label.clone(),
+            indistinguishable_from: alternatives,
+        });
+        self.accepted.push((h, f.value));
+        if !f.deck_values.is_empty() {
+            self.base = model::updated_deck(&self.base, &f.deck_values);
+        }
+        self.current = apply_accepted(&self.base, &self.accepted);
+        self.damp = f.damping.clone();
+        self.cost = f.cost;
+        self.v = v;
+    }
+
+    /// Re-estimate the earlier extensions' values together with the new
+    /// one (each was fitted while the others were missing): kept when the
+    /// joint fit costs less, stays inside the bounds and validates no worse.
+    fn reestimate_jointly(&mut self, engine: &Engine) {
+        if self.accepted.len() <= 1 {
+            return;
+        }
+        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
+        let logs: Vec<f64> = self
+            .accepted
+            .iter()
+            .filter_map(|a| a.1.map(f64::ln))
+            .collect();
+        let settings = refit::JointSettings {
+            frequency_stage: false,
+            iterations: 8,
+        };
+        let problem = refit::Joint::new(&self.base, hyps);
+        let Some(jf) = refit::fit_joint(
+            engine,
+            &problem,
+            std::slice::from_ref(&logs),
+            &self.damp,
+            &engine.all,
+            settings,
+        ) else {
+            return;
+        };
+        if jf.cost < self.cost && !jf.on_bound.iter().any(|b| *b) {
+            let vj = refit::validate_joint(engine, &problem, &jf);
+            if vj <= self.v {
+                set_values(&mut self.accepted, &mut self.findings, &jf);
+                self.current = apply_accepted(&self.base, &self.accepted);
+                self.damp = jf.damping.clone();
+                self.cost = jf.cost;
+                self.v = vj;
+                if let Some(last) = self.findings.last_mut() {
+                    last.validation_error_after = vj;
+                }
+            }
+        }
+    }
+
+    /// The damping form may have compensated for what was missing: another
+    /// form whose cost is lower replaces the current one.
+    fn choose_damping_form_again(&mut self, search: &Search) {
+        let engine = search.engine;
+        let Some((d2, forms)) = select::choose_damping(
+            engine,
+            &self.current,
+            Some((self.damp.form, self.damp.x.clone())),
+            search.zeta0,
+        ) else {
+            return;
+        };
+        let c2 = forms
+            .iter()
+            .find(|x| x.0 == d2.form)
+            .map_or(f64::INFINITY, |x| x.1);
+        if d2.form != self.damp.form && c2 < self.cost {
+            if let Some(bf) = engine.fit(&FitRequest::damping(&self.current, &d2, &engine.all)) {
+                self.damp = bf.damping.clone();
+                self.cost = bf.cost;
+                self.v = engine.validate(None, &self.current, &bf);
+            }
+        }
+    }
+}
+
+/// `start` with the accepted extensions at their values.
+fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
+    accepted
+        .iter()
+        .fold(start.clone(), |d, (h, v)| h.apply(&d, *v))
+}
+
+/// Write the values and uncertainties of a joint fit over all accepted
+/// extensions (in order) into the list and the findings.
+fn set_values(
+    accepted: &mut [(Hypothesis, Option<f64>)],
+    findings: &mut [Finding],
+    jf: &refit::JointFit,
+) {
+    let mut k = 0;
+    for (i, (h, v)) in accepted.iter_mut().enumerate() {
+        let Some(p) = &h.param else {
+            continue;
+        };
+        let x = jf.logs[k].exp();
+        *v = Some(x);
+        if let Some(f) = findings.get_mut(i) {
+            f.parameters.insert(p.name.to_string(), x);
+            f.uncertainty.insert(p.name.to_string(), jf.std_log[k] * x);
+        }
+        k += 1;
+    }
+}
+
+/// A pair of extensions fitted jointly (with the accepted ones re-estimated).
+struct PairFit {
+    hyps: [Hypothesis; 2],
+    fit: refit::JointFit,
+    v: f64,
+}
+
+/// Joint fits of pairs among the best-fitting single candidates of a round
+/// (after the accepted extensions), each from a grid of starts through the
+/// resonance-frequency stage; the pair that predicts held-out data best,
+/// if its fit is well determined and inside the bounds.
+fn pair_search(
+    engine: &Engine,
+    start: &Deck,
+    accepted: &[(Hypothesis, Option<f64>)],
+    fitted: &[(Hypothesis, HypFit)],
+    damp: &DampingState,
+    large: bool,
+) -> Option<PairFit> {
+    let pool: Vec<&(Hypothesis, HypFit)> = fitted
+        .iter()
+        .filter(|(h, _)| h.physics != Physics::Suspension)
+        .take(if large { 3 } else { 5 })
+        .collect();
+    let per_axis = if large { 3 } else { 4 };
+    let mut best: Option<PairFit> = None;
+    for a in 0..pool.len() {
+        for b in a + 1..pool.len() {
+            let (ha, fa) = pool[a];
+            let (hb, fb) = pool[b];
+            if ha.param.is_none() && hb.param.is_none() {
+                continue;
+            }
+            let mut hyps: Vec<&Hypothesis> = accepted.iter().map(|x| &x.0).collect();
+            hyps.push(ha);
+            hyps.push(hb);
+            let mut fixed: Vec<Option<f64>> = accepted
+                .iter()
+                .filter_map(|x| x.0.param.as_ref().map(|_| x.1.map(f64::ln)))
+                .collect();
+            let n_acc = fixed.len();
+            let singles: Vec<Option<f64>> = [(ha, fa), (hb, fb)]
+                .iter()
+                .filter(|(h, _)| h.param.is_some())
+                .map(|(_, f)| f.log_value)
+                .collect();
+            let mut from_singles = fixed.iter().map(|x| x.unwrap_or(0.0)).collect::<Vec<_>>();
+            from_singles.extend(singles.iter().map(|x| x.unwrap_or(0.0)));
+            fixed.extend(singles.iter().map(|_| None));
+            let problem = refit::Joint::new(start, hyps);
+            let (lo, hi) = problem.bounds();
+            let mut starts = refit::grid_starts(&lo, &hi, &fixed, per_axis);
+            starts.push(from_singles);
+            let settings = refit::JointSettings {
+                frequency_stage: true,
+                iterations: 12,
+            };
+            let Some(jf) = refit::fit_joint(engine, &problem, &starts, damp, &engine.all, settings)
+            else {
+                continue;
+            };
+            let new = n_acc..jf.logs.len();
+            if jf.on_bound[new.clone()].iter().any(|x| *x)
+                || jf.std_log[new].iter().any(|s| !(*s < 1.0))
+            {
+                continue;
+            }
+            if best.as_ref().is_some_and(|p| p.fit.cost <= jf.cost) {
+                continue;
+            }
+            let v = refit::validate_joint(engine, &problem, &jf);
+            if best.as_ref().is_none_or(|p| v < p.v) {
+                best = Some(PairFit {
+                    hyps: [ha.clone(), hb.clone()],
+                    fit: jf,
+                    v,
+                });
+            }
+        }
+    }
+    best
+}

@@ -1,0 +1,169 @@
+//! What the stages of a diagnosis share (the test as the model places it,
+//! the fitting engine, the noise level and the deck's damping), and the
+//! search for extensions from each starting deck (steps 2–4).
+
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::fit::{self, DampingForm, DampingState};
+use super::greedy::{self, Greedy};
+use super::hypotheses::damping as hdamp;
+use super::select::{self, Engine, FitRequest};
+use super::{DiagnoseError, DiagnoseOptions};
+use crate::model::{self, ParameterValues};
+use crate::testdata::MeasuredFrfs;
+use crate::updating;
+
+/// The inputs of a diagnosis and what every stage derives from them once.
+pub(super) struct Search<'a> {
+    pub engine: &'a Engine<'a>,
+    pub opts: &'a DiagnoseOptions,
+    /// The deck as given and the test.
+    pub deck: &'a Deck,
+    pub test: &'a MeasuredFrfs,
+    /// J0, the validation cost the noise alone gives.
+    pub j0: f64,
+    /// Half-power damping ratio of the test's resonances (start of the
+    /// damping forms the deck does not give).
+    pub zeta0: f64,
+    /// The deck's damping form and log parameters (`None`: no damping).
+    pub deck_form: Option<(DampingForm, Vec<f64>)>,
+    /// Where the damping of the deck's fits starts.
+    pub start_damping: DampingState,
+}
+
+impl<'a> Search<'a> {
+    pub fn new(
+        engine: &'a Engine<'a>,
+        deck: &'a Deck,
+        test: &'a MeasuredFrfs,
+        opts: &'a DiagnoseOptions,
+    ) -> Self {
+        let deck_damping = hdamp::of_deck(deck);
+        Search {
+            engine,
+            opts,
+            deck,
+            test,
+            j0: engine.noise_level(),
+            zeta0: engine.data.half_power_zeta(),
+            deck_form: DampingForm::of(deck_damping),
+            start_damping: fit::start_damping(deck_damping, engine.data),
+        }
+    }
+
+    /// The deck's own parameters are updated (the update is asked for and
+    /// the deck has parameters).
+    pub fn updates_parameters(&self) -> bool {
+        !self.opts.skip_update && !self.deck.params.is_empty()
+    }
+
+    /// Steps 2–4, greedy extensions from the updated deck and (if the update
+    /// changed it) from the deck as given: an update can absorb missing
+    /// physics into the deck's parameters. After extensions are found, the
+    /// deck's parameters are updated again on the extended deck. The search
+    /// that predicts held-out data best (by more than the margin) wins.
+    pub fn extensions_from_starts(
+        &self,
+        updated_deck: &Deck,
+    ) -> Result<Option<Greedy>, DiagnoseError> {
+        let mut starts = vec![updated_deck.clone()];
+        if updated_deck != self.deck {
+            starts.push(self.deck.clone());
+        }
+        let mut best: Option<Greedy> = None;
+        for start in &starts {
+            // The updated deck (first start) already at the noise level: the
+            // deck as given has nothing to add.
+            if best.as_ref().is_some_and(|b| b.cost <= 1.25 * self.j0) {
+                break;
+            }
+            let Some(mut g) = greedy::search(self, start)? else {
+                continue;
+            };
+            if self.updates_parameters() && !g.accepted.is_empty() {
+                self.update_extended_deck(&mut g);
+            }
+            let better = match &best {
+                None => true,
+                Some(b) => g.v < b.v - select::margin(b.v, self.j0),
+            };
+            if better {
+                best = Some(g);
+            }
+        }
+        Ok(best)
+    }
+
+    /// Update the deck's own parameters again on the deck with the accepted
+    /// extensions (the paper's update, then the polish on all lines and
+    /// channels); `g` takes them when they lower its cost.
+    fn update_extended_deck(&self, g: &mut Greedy) {
+        let engine = self.engine;
+        let mut ext = self.deck.clone();
+        for (h, v) in &g.accepted {
+            ext = h.apply(&ext, *v);
+        }
+        let paper = updating::update(&ext, self.test, &self.opts.update)
+            .map(|r| r.parameter_values())
+            .unwrap_or_default();
+        let polished = fit::fit_deck_parameters(
+            &ext,
+            &paper,
+            &g.damp,
+            engine.data,
+            &engine.all,
+            8,
+            &engine.evaluations,
+        )
+        .map(|(v, _, _)| v);
+        let Some(values) = polished else {
+            return;
+        };
+        let cand = model::updated_deck(&ext, &values);
+        if let Some(f) = engine.fit(&FitRequest::damping(&cand, &g.damp, &engine.all)) {
+            if f.cost < g.cost {
+                g.current = cand;
+                g.damp = f.damping.clone();
+                g.cost = f.cost;
+                g.v = engine.validate(None, &g.current, &f);
+                g.parameters = Some(values);
+            }
+        }
+    }
+}
+
+/// The test data restricted to the channels the model places (a free DOF
+/// at the channel's node and direction), and the labels of the others.
+pub(super) fn placed_test_data(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+) -> Result<(TestData, Vec<String>), DiagnoseError> {
+    let mut data = TestData::new(test)?;
+    let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+    if fe.measured_dof(data.input.0, data.input.1).is_none() {
+        return Err(DiagnoseError::Data(format!(
+            "the excitation {} is not a free DOF of the model",
+            crate::testdata::dof_label(data.input.0 as i64, data.input.1)
+        )));
+    }
+    let keep: Vec<bool> = data
+        .channels
+        .iter()
+        .map(|c| fe.measured_dof(c.node, c.direction).is_some())
+        .collect();
+    let ignored_channels: Vec<String> = data
+        .channels
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| !**k)
+        .map(|(c, _)| c.label.clone())
+        .collect();
+    data.retain_channels(&keep);
+    if data.channels.is_empty() {
+        return Err(DiagnoseError::Data(
+            "no test channel matches a free DOF of the model".into(),
+        ));
+    }
+    Ok((data, ignored_channels))
+}
