@@ -14,8 +14,7 @@
 //! global axes, so in a plane analysis θy = −dw/dx; equations numbered by
 //! ascending node ID, then x y z rx ry rz.
 //!
-//! CONTRACT (shared with `solvers` and `updating`): the items in this file
-//! marked CONTRACT keep their names and meaning; add freely around them.
+//! The public items of this file are used by `solvers` and `updating`.
 
 use std::collections::BTreeMap;
 
@@ -32,7 +31,7 @@ pub use assembly::{build, check_mass, dof_of};
 pub use error::ModelError;
 pub use update::{parameter_names, updated_deck};
 
-/// CONTRACT. Global sparse matrices: free DOFs only, both triangles stored.
+/// Global sparse matrices: free DOFs only, both triangles stored.
 pub type SparseMatrix = SparseColMat<usize, f64>;
 
 /// Diagonal of a sparse matrix (duplicates summed).
@@ -52,7 +51,7 @@ pub fn diagonal(a: &SparseMatrix) -> Vec<f64> {
     d
 }
 
-/// CONTRACT. A nodal degree of freedom; UFF direction codes 1..6 = x y z rx ry rz.
+/// A nodal degree of freedom; UFF direction codes 1..6 = x y z rx ry rz.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Dof {
     X,
@@ -64,7 +63,7 @@ pub enum Dof {
 }
 
 impl Dof {
-    /// CONTRACT. UFF direction code (±1..±6) → DOF and sign (−1.0 for a reversed sense).
+    /// UFF direction code (±1..±6) → DOF and sign (−1.0 for a reversed sense).
     pub fn from_uff_code(code: i32) -> Option<(Dof, f64)> {
         let dof = match code.abs() {
             1 => Dof::X,
@@ -78,7 +77,7 @@ impl Dof {
         Some((dof, if code < 0 { -1.0 } else { 1.0 }))
     }
 
-    /// CONTRACT. The UFF direction code (1..6) of this DOF, positive sense.
+    /// The UFF direction code (1..6) of this DOF, positive sense.
     pub fn uff_code(self) -> i32 {
         match self {
             Dof::X => 1,
@@ -90,7 +89,7 @@ impl Dof {
         }
     }
 
-    /// CONTRACT. The deck's name of this DOF (`x y z rx ry rz`).
+    /// The deck's name of this DOF (`x y z rx ry rz`).
     pub fn name(self) -> &'static str {
         match self {
             Dof::X => "x",
@@ -103,7 +102,7 @@ impl Dof {
     }
 }
 
-/// CONTRACT. Global damping model of the deck (`damping ...`).
+/// Global damping model of the deck (`damping ...`).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
 pub enum Damping {
     #[default]
@@ -116,7 +115,7 @@ pub enum Damping {
     Hysteretic { eta: f64 },
 }
 
-/// CONTRACT. Relative changes p̄ of the deck's parameters (`param NAME ...`):
+/// Relative changes p̄ of the deck's parameters (`param NAME ...`):
 /// updated value = (1 + p̄) × deck value. A parameter absent from the map is 0.
 impl Damping {
     /// The damping of a deck's `damping` statement (none: undamped).
@@ -164,7 +163,7 @@ pub fn describe_damping(d: Damping) -> String {
 
 pub type ParameterValues = BTreeMap<String, f64>;
 
-/// CONTRACT. ∂K/∂p and ∂M/∂p of one updating parameter (Eq. 30–31), where p is
+/// ∂K/∂p and ∂M/∂p of one updating parameter (Eq. 30–31), where p is
 /// the relative change about the *current* value (X = (1 + p)·X_current), taken at p = 0.
 /// Units: those of K (N/m, N, N·m/rad) and M (kg, kg·m, kg·m²).
 pub struct ParameterSensitivity {
@@ -173,7 +172,7 @@ pub struct ParameterSensitivity {
     pub dm: SparseMatrix,
 }
 
-/// CONTRACT. Numbering of the free DOFs: (node id, DOF) ↔ equation index.
+/// Numbering of the free DOFs: (node id, DOF) ↔ equation index.
 #[derive(Clone, Debug, Default)]
 pub struct DofMap {
     /// Equation index → (node id, DOF), in equation order.
@@ -192,11 +191,11 @@ impl DofMap {
             .collect()
     }
 
-    /// CONTRACT. Equation index of a free DOF; `None` if fixed or absent.
+    /// Equation index of a free DOF; `None` if fixed or absent.
     pub fn index(&self, node: u32, dof: Dof) -> Option<usize> {
         self.lookup.get(&(node, dof)).copied()
     }
-    /// CONTRACT. Number of free DOFs.
+    /// Number of free DOFs.
     pub fn len(&self) -> usize {
         self.equations.len()
     }
@@ -205,7 +204,7 @@ impl DofMap {
     }
 }
 
-/// CONTRACT. An assembled FE model at given parameter values.
+/// An assembled FE model at given parameter values.
 pub struct FeModel {
     pub dofs: DofMap,
     /// K over the free DOFs (N/m, N/rad, N·m/rad).
@@ -222,7 +221,7 @@ pub struct FeModel {
 }
 
 impl FeModel {
-    /// CONTRACT. The equation index and sign of a measured channel: test node id
+    /// The equation index and sign of a measured channel: test node id
     /// (mapped through `sensor`) and UFF direction code (negative flips the sign).
     pub fn measured_dof(&self, test_node: u32, uff_direction: i32) -> Option<(usize, f64)> {
         let node = self.sensors.get(&test_node).copied().unwrap_or(test_node);

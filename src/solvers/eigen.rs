@@ -18,7 +18,7 @@ use faer::Mat;
 use crate::model::SparseMatrix;
 use crate::solvers::sparse_ops;
 
-/// CONTRACT. Modes in ascending frequency order.
+/// Modes in ascending frequency order.
 #[derive(Clone, Debug)]
 pub struct Modes {
     /// ω_r² (rad²/s²); rigid-body modes give values near 0 (may be slightly negative).
@@ -28,7 +28,7 @@ pub struct Modes {
 }
 
 impl Modes {
-    /// CONTRACT. f_r = √max(ω_r², 0) / 2π in Hz.
+    /// f_r = √max(ω_r², 0) / 2π in Hz.
     pub fn frequencies_hz(&self) -> Vec<f64> {
         self.omega2
             .iter()
@@ -59,7 +59,7 @@ const FEW_MODES_MAX_RESTARTS: usize = 20;
 /// modes (12 DOFs a mode): 159 ms and 131 ms, about even; 20 keeps a margin.
 pub const KRYLOV_DOFS_PER_MODE: usize = 20;
 
-/// CONTRACT. Options of [`lowest_modes`].
+/// Options of [`lowest_modes`].
 #[derive(Clone, Debug)]
 pub struct EigenOptions {
     /// How many of the lowest modes (clamped to the number of DOFs).
@@ -87,7 +87,7 @@ impl Default for EigenOptions {
     }
 }
 
-/// CONTRACT. Why an eigen solve failed.
+/// Why an eigen solve failed.
 #[derive(Debug)]
 pub enum EigenError {
     /// A fixed model has this many zero-energy modes (mechanisms); the
@@ -195,7 +195,7 @@ pub struct EigenReport {
     pub factor_nonzeros: usize,
 }
 
-/// CONTRACT. The `opts.count` lowest modes of (K, M).
+/// The `opts.count` lowest modes of (K, M).
 ///
 /// Errors instead of panics: shape/finiteness problems → `InvalidInput`, a
 /// non-positive M_ii → `MassNotPositive`, zero-energy modes of a fixed model →

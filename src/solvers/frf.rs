@@ -239,7 +239,7 @@ impl DirectFrf {
     }
 }
 
-/// CONTRACT. Receptance (m/N) at `outputs` for a unit force at `input`, one
+/// Receptance (m/N) at `outputs` for a unit force at `input`, one
 /// column per frequency: result is outputs.len() × omegas.len().
 /// Direct complex solve of (K(1+iη) + iωC − ω²M) x = f.
 ///
@@ -424,7 +424,7 @@ pub fn static_residual_terms(
     ))
 }
 
-/// CONTRACT. Same quantity by modal superposition over `modes`.
+/// Same quantity by modal superposition over `modes`.
 ///
 /// On invalid input every entry is NaN; use [`try_modal_receptance`] for the
 /// reason and for the residual term.

@@ -1,8 +1,7 @@
 //! Solvers on assembled models: the generalised eigenproblem ([`eigen`]) and
 //! forced response ([`frf`]).
 //!
-//! CONTRACT (shared with `updating` and the CLI): items marked CONTRACT keep
-//! their names and meaning; add freely around them.
+//! Used by `updating`, `diagnosis` and the command line.
 
 pub(crate) mod bandwidth;
 pub mod eigen;

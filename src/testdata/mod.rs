@@ -1,12 +1,11 @@
 //! Measured FRFs: dataset 58 records gathered into channels on a common
 //! frequency axis, in SI units, and converted between FRF kinds.
 //!
-//! CONTRACT (shared with `updating` and the CLI): items marked CONTRACT keep
-//! their names and meaning.
+//! Used by `updating`, `diagnosis` and the command line.
 
 use faer::c64;
 
-/// CONTRACT. Which motion an FRF relates to force.
+/// Which motion an FRF relates to force.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FrfKind {
     /// Displacement / force (m/N).
@@ -17,7 +16,7 @@ pub enum FrfKind {
     Accelerance,
 }
 
-/// CONTRACT. One measured FRF: response at a node/direction for a force at the reference.
+/// One measured FRF: response at a node/direction for a force at the reference.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
     pub response_node: i64,
@@ -29,7 +28,7 @@ pub struct Channel {
     pub values: Vec<c64>,
 }
 
-/// CONTRACT. A set of FRFs sharing one frequency axis.
+/// A set of FRFs sharing one frequency axis.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeasuredFrfs {
     /// Frequency lines (Hz), ascending.

@@ -1,7 +1,6 @@
 //! Universal File Format (UFF / UNV): reading and writing.
 //!
-//! CONTRACT (shared with `frfup::testdata` and the CLI): items marked CONTRACT
-//! keep their names and meaning; add freely around them.
+//! Used by `frfup::testdata` and the command line.
 //!
 //! Reading: [`parse`] splits the file into dataset blocks (`split`), then
 //! parses the blocks on up to `available_parallelism` threads; the result and
@@ -34,7 +33,7 @@ pub use write::{write_function, write_functions_with, ByteOrder, WriteOptions};
 /// The complex values of [`Ordinate::Complex`] and [`Ordinate::ComplexSingle`].
 pub use num_complex::{Complex32, Complex64};
 
-/// CONTRACT. A whole parsed file.
+/// A whole parsed file.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct UffFile {
     pub datasets: Vec<Dataset>,
@@ -42,7 +41,7 @@ pub struct UffFile {
     pub notes: Vec<String>,
 }
 
-/// CONTRACT. One dataset of a file, in file order.
+/// One dataset of a file, in file order.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Dataset {
     /// 58 and 58b: a function at one node/direction pair.
@@ -51,7 +50,7 @@ pub enum Dataset {
     Other(OtherDataset),
 }
 
-/// CONTRACT. Datasets other than 58; variants are added by the UFF parser.
+/// Datasets other than 58; variants are added by the UFF parser.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OtherDataset {
     /// Dataset number (151, 164, 15, ...).
@@ -64,14 +63,14 @@ pub struct OtherDataset {
     pub kind: OtherKind,
 }
 
-/// CONTRACT. Abscissa of a function record.
+/// Abscissa of a function record.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Abscissa {
     Even { start: f64, step: f64 },
     Uneven(Vec<f64>),
 }
 
-/// CONTRACT. Ordinate data, in file order.
+/// Ordinate data, in file order.
 ///
 /// Single-precision values read from 58b are kept as `f32`, exactly as the
 /// file stores them (half the memory of widening them); everything else
@@ -128,7 +127,7 @@ impl Ordinate {
     }
 }
 
-/// CONTRACT. Records 8–11 of dataset 58: data characteristics of one axis.
+/// Records 8–11 of dataset 58: data characteristics of one axis.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct AxisCharacteristics {
     /// Specific data type (0 unknown, 1 general, 2 stress, 3 strain, 5 temperature,
@@ -142,7 +141,7 @@ pub struct AxisCharacteristics {
     pub units_label: String,
 }
 
-/// CONTRACT. Dataset 58 / 58b.
+/// Dataset 58 / 58b.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Function58 {
     /// Records 1–5: free text (id line 1..4, record 5 date/time ...).
@@ -173,14 +172,14 @@ pub struct Function58 {
 }
 
 impl Function58 {
-    /// CONTRACT. Number of points.
+    /// Number of points.
     pub fn len(&self) -> usize {
         self.ordinate.len()
     }
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
-    /// CONTRACT. Abscissa value of point i.
+    /// Abscissa value of point i.
     pub fn abscissa_at(&self, i: usize) -> f64 {
         match &self.abscissa {
             Abscissa::Even { start, step } => start + step * i as f64,
@@ -189,7 +188,7 @@ impl Function58 {
     }
 }
 
-/// CONTRACT. Why a file could not be read. The caller adds the file name.
+/// Why a file could not be read. The caller adds the file name.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UffError {
     /// 1-based line, where the problem is in a text part.
@@ -300,7 +299,7 @@ fn parse_blocks(bytes: &[u8], blocks: &[split::Block]) -> Vec<Option<BlockResult
     slots
 }
 
-/// CONTRACT. Parse a whole file from its bytes.
+/// Parse a whole file from its bytes.
 ///
 /// Never panics; a malformed file gives an [`UffError`] naming the line (or
 /// byte offset), dataset index and number, and what was expected: the first
@@ -366,7 +365,7 @@ pub fn parse_file(
     Ok(parse_reader(file))
 }
 
-/// CONTRACT. Write dataset 58 records (58b where `binary` is true) to `out`.
+/// Write dataset 58 records (58b where `binary` is true) to `out`.
 /// 58b data are little-endian; see [`write_functions_with`] for options.
 /// Non-finite values, or values that do not fit their Fortran fields, give an
 /// `InvalidInput` error.
