@@ -10,8 +10,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use frfup::commands::progress::{Progress, StepReporter};
 use frfup::commands::{self, convert};
+use frfup::tasks::update::Thresholds;
 use frfup::tasks::{self, update, CommandError};
 use frfup::testdata::FrfKind;
+use frfup::updating::options::finite;
+use frfup::updating::{UpdateMethod, UpdateSettings};
 use std::sync::Mutex;
 
 #[derive(Parser)]
@@ -125,13 +128,9 @@ enum Command {
         #[arg(long)]
         out: PathBuf,
         #[command(flatten)]
-        args: UpdateArgs,
-        /// Exit with code 1 if the updated mean SFDAC is below X.
-        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-        fail_below_sfdac: Option<f64>,
-        /// Exit with code 1 if the updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
-        fail_above_freq_error: Option<f64>,
+        args: UpdateSettings,
+        #[command(flatten)]
+        thresholds: Thresholds,
     },
     /// Which physics the model lacks: update, localise, test hypotheses (diagnosis.json, diagnosed.deck, report.md).
     Diagnose {
@@ -146,9 +145,10 @@ enum Command {
         /// At most this many extensions.
         #[arg(long, default_value_t = 4)]
         max_findings: usize,
-        /// Options of the first step, the update of the deck's own parameters.
+        /// Options of the first step, the update of the deck's own parameters
+        /// (`--method paper` unless given).
         #[command(flatten)]
-        args: UpdateArgs,
+        args: UpdateSettings,
     },
     /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
     Batch {
@@ -162,22 +162,9 @@ enum Command {
         /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
         #[arg(long, value_name = "I/N")]
         shard: Option<String>,
-        /// A case fails if its updated mean SFDAC is below X.
-        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-        fail_below_sfdac: Option<f64>,
-        /// A case fails if its updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
-        fail_above_freq_error: Option<f64>,
+        #[command(flatten)]
+        thresholds: Thresholds,
     },
-}
-
-/// A finite number (NaN or infinity as an option value is a typo, not a threshold).
-fn finite(s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err("expected a finite number".into()),
-        Err(e) => Err(e.to_string()),
-    }
 }
 
 /// A count of at least 1.
@@ -186,129 +173,6 @@ fn at_least_one(s: &str) -> Result<usize, String> {
         Ok(0) => Err("expected at least 1".into()),
         Ok(n) => Ok(n),
         Err(e) => Err(e.to_string()),
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
-enum Inverse {
-    /// Truncated SVD at rank N_md (§3.4).
-    Svd,
-    /// Small value added to the diagonal (§3.3).
-    Perturb,
-}
-
-/// Options shared by `update` and `diagnose`. Unset options take the
-/// values of the chosen `--method` (see `UpdateOptions::default` and
-/// `UpdateOptions::paper`).
-#[derive(clap::Args, Clone)]
-struct UpdateArgs {
-    /// Pipeline: `robust` (default: fitted resonances, frequencies first,
-    /// damped steps, then a full-band estimate with uncertainties) or
-    /// `paper` (Yan & Golinval's iteration exactly, with the paper's values).
-    #[arg(long, value_enum)]
-    method: Option<MethodArg>,
-    /// Modes N_md in the SEREP basis (default: min(N_ex, max(2R, R + 4))).
-    #[arg(long)]
-    modes: Option<usize>,
-    /// Measured resonances R used for the updating frequencies (default: up to 8).
-    #[arg(long)]
-    resonances: Option<usize>,
-    /// Updating frequencies at (1 ± C)·f_r around each resonance [Eq. 42]
-    /// (default: 0.05 robust, 0.08 paper).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    offset: Option<f64>,
-    /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
-    #[arg(long, value_name = "F1,F2,...", allow_hyphen_values = true)]
-    freqs: Option<String>,
-    /// Add the natural-frequency equations [Eq. 16-22].
-    #[arg(long)]
-    with_frequencies: bool,
-    /// First bring the paired resonances within 1 % by the natural-frequency
-    /// equations alone, then update from FRFs (default with --method robust).
-    #[arg(long)]
-    frequencies_first: bool,
-    /// How the test's resonances and their shapes are found (default: fit
-    /// robust, peaks paper).
-    #[arg(long, value_enum)]
-    resonance_method: Option<ResonanceMethodArg>,
-    /// How the reduced dynamic stiffness is inverted [§3.3-3.4].
-    #[arg(long, value_enum, default_value = "svd")]
-    inverse: Inverse,
-    /// Relative diagonal perturbation for --inverse perturb.
-    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION, allow_negative_numbers = true, value_parser = finite)]
-    perturbation: f64,
-    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E [Eq. 40].
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    svd_eps: Option<f64>,
-    /// Tikhonov damping of each FRF step, relative to the largest singular
-    /// value (default: 0.05 robust, 0 paper = the plain SVD solution).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    damping: Option<f64>,
-    /// Stop the iteration when max |p_j| < T [Eq. 49] (default 0.01).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    tol: Option<f64>,
-    /// Iteration limit of the paper's iteration (default 20).
-    #[arg(long)]
-    max_iter: Option<usize>,
-}
-
-/// `--method`.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum MethodArg {
-    Robust,
-    Paper,
-}
-
-/// `--resonance-method`.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum ResonanceMethodArg {
-    /// Peak picking on the summed mobility (the paper's way).
-    Peaks,
-    /// Multi-channel pole-residue fit: finds weak modes, separates close ones.
-    Fit,
-}
-
-impl UpdateArgs {
-    /// The options: the `--method` preset (or `base` without `--method`),
-    /// with every option given on the command line applied.
-    fn options_from(
-        &self,
-        base: frfup::updating::UpdateOptions,
-    ) -> Result<frfup::updating::UpdateOptions, CommandError> {
-        use frfup::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
-        let mut o = match self.method {
-            None => base,
-            Some(MethodArg::Robust) => UpdateOptions::default(),
-            Some(MethodArg::Paper) => UpdateOptions::paper(),
-        };
-        o.modes = self.modes.or(o.modes);
-        o.resonances = self.resonances.or(o.resonances);
-        o.offset = self.offset.unwrap_or(o.offset);
-        o.with_frequencies |= self.with_frequencies;
-        o.frequencies_first |= self.frequencies_first;
-        if let Some(m) = self.resonance_method {
-            o.resonance_method = match m {
-                ResonanceMethodArg::Peaks => ResonanceMethod::PeakPicking,
-                ResonanceMethodArg::Fit => ResonanceMethod::ModalFit,
-            };
-        }
-        o.svd_eps = self.svd_eps.unwrap_or(o.svd_eps);
-        o.damping = self.damping.unwrap_or(o.damping);
-        o.tol = self.tol.unwrap_or(o.tol);
-        o.max_iter = self.max_iter.unwrap_or(o.max_iter);
-        o.inverse = match self.inverse {
-            Inverse::Svd => InverseMethod::Svd,
-            Inverse::Perturb => InverseMethod::Perturb {
-                relative: self.perturbation,
-            },
-        };
-        if let Some(f) = &self.freqs {
-            o.frequencies_hz = Some(
-                frfup::batch::campaign::parse_freqs(f)
-                    .map_err(|e| CommandError::input(format!("--{e}")))?,
-            );
-        }
-        Ok(o)
     }
 }
 
@@ -462,14 +326,13 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             test,
             out,
             args,
-            fail_below_sfdac,
-            fail_above_freq_error,
+            thresholds,
         } => {
             let cmd = update::UpdateCommand {
                 deck,
                 test,
                 out: out.clone(),
-                options: args.options_from(frfup::updating::UpdateOptions::default())?,
+                options: args.resolve(UpdateMethod::Robust),
             };
             let reporter =
                 StepReporter::new(cli.quiet, cmd.options.max_iter as u64 + 1, "iteration");
@@ -481,10 +344,6 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             print_timings(cli.verbose, &outcome);
             print_update_summary(&outcome);
             println!("wrote {}", out.display());
-            let thresholds = update::Thresholds {
-                min_sfdac: fail_below_sfdac,
-                max_freq_error_pct: fail_above_freq_error,
-            };
             if !outcome.result.converged {
                 return Err(CommandError::threshold(format!(
                     "not converged: {}",
@@ -506,7 +365,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                 test,
                 out: out.clone(),
                 options: frfup::diagnosis::DiagnoseOptions {
-                    update: args.options_from(frfup::updating::UpdateOptions::paper())?,
+                    update: args.resolve(UpdateMethod::Paper),
                     skip_update: no_update,
                     max_findings,
                     ..Default::default()
@@ -526,8 +385,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             out,
             jobs,
             shard,
-            fail_below_sfdac,
-            fail_above_freq_error,
+            thresholds,
         } => {
             frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
             let shard = shard
@@ -542,10 +400,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
                     out: out.clone(),
                     jobs,
                     shard,
-                    thresholds: update::Thresholds {
-                        min_sfdac: fail_below_sfdac,
-                        max_freq_error_pct: fail_above_freq_error,
-                    },
+                    thresholds,
                 },
                 &|c, n, total| {
                     let line = format!(
@@ -665,10 +520,7 @@ fn pct(x: Option<f64>) -> String {
         .unwrap_or_else(|| "n/a".into())
 }
 
-fn check_thresholds(
-    outcome: &update::UpdateOutcome,
-    t: update::Thresholds,
-) -> Result<(), CommandError> {
+fn check_thresholds(outcome: &update::UpdateOutcome, t: Thresholds) -> Result<(), CommandError> {
     let reasons = update::threshold_failures(outcome, t);
     if reasons.is_empty() {
         Ok(())
