@@ -151,7 +151,10 @@ fn take_string(t: &mut toml::Table, key: &str, what: &str) -> Result<String, Str
 }
 
 fn case(index: usize, t: toml::Table, base: &Path) -> Result<Case, String> {
-    let what = format!("case #{}", index + 1);
+    let mut what = format!("case #{}", index + 1);
+    if let Some(toml::Value::String(name)) = t.get("name") {
+        what = format!("{what} ({name})");
+    }
     let mut t = kebab_keys(t, &what)?;
     let name = take_string(&mut t, "name", &what)?;
     if name.contains(['/', '\\']) || name == "." || name == ".." {
@@ -159,7 +162,6 @@ fn case(index: usize, t: toml::Table, base: &Path) -> Result<Case, String> {
             "{what}: name {name:?} must not contain path separators (it names the case's folder)"
         ));
     }
-    let what = format!("case #{} ({name})", index + 1);
     let model = base.join(take_string(&mut t, "model", &what)?);
     let test = base.join(take_string(&mut t, "test", &what)?);
     let (option_keys, threshold_keys) = (UpdateSettings::names(), long_names::<Thresholds>());
