@@ -144,6 +144,8 @@ pub fn run_into(
     crate::report::output::write_outputs_with_notes(&result, &deck, dir, &notes)
         .map_err(|e| CommandError::output(&cmd.out, e))?;
     lap("write tables and updated deck", &mut timings);
+    let states = crate::updating::model_states::model_states(&result, &deck, &test);
+    lap("evaluate the initial and updated models", &mut timings);
     let inputs = crate::report::ReportInputs {
         deck_path: shown.deck.clone(),
         test_path: shown.test.clone(),
@@ -151,7 +153,7 @@ pub fn run_into(
         command: None,
         input_notes: notes.clone(),
     };
-    crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
+    crate::report::write_report(dir, &result, &states, &deck, &test, &inputs).map_err(|e| {
         CommandError::input(format!(
             "writing the report into {}: {e}",
             cmd.out.display()

@@ -16,6 +16,7 @@ pub mod fullband;
 pub mod identify;
 pub mod iterate;
 pub mod measured;
+pub mod model_states;
 pub mod options;
 pub mod robust;
 pub mod sensitivity;
