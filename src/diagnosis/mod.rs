@@ -83,8 +83,13 @@ pub struct FitQuality {
     pub frf_error: f64,
     /// RMS of |ln(H_model/H_test)| over the same points.
     pub frf_log_rms: f64,
-    /// The damping the numbers were computed with.
+    /// The damping the numbers were computed with, in words.
     pub damping: String,
+    /// The same damping as a model (fitted to the test from the deck's).
+    pub damping_model: crate::model::Damping,
+    /// The model FRFs these numbers score, [channel][line] of
+    /// [`Diagnosis::data`], in the measured kind: what a report overlays.
+    pub frfs: Vec<Vec<faer::c64>>,
 }
 
 /// One accepted extension.
@@ -302,6 +307,8 @@ fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuali
             f64::NAN
         },
         damping: describe_damping(d.damping()),
+        damping_model: d.damping(),
+        frfs: pred,
     })
 }
 
