@@ -1,6 +1,6 @@
 //! Times `lowest_modes` on a deck and optionally exports K, M for SciPy.
 //!
-//! cargo run --release --example bench_eigen -- DECK [--count N] [--dense]
+//! cargo run --release --features bench --example bench_eigen -- DECK [--count N] [--dense]
 //!     [--export DIR] [--block B] [--basis B] [--shift S] [--tol T] [--repeat N]
 //!     [--faer]
 //!

@@ -1,6 +1,6 @@
 //! The randomised benchmark of `frfup update` (issue 16, item 5).
 //!
-//!   cargo run --release --example random_benchmark -- --cases 200 --seed 1 \
+//!   cargo run --release --features bench --example random_benchmark -- --cases 200 --seed 1 \
 //!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
 //!       [--update-arg ARG]...
 //!

@@ -18,7 +18,7 @@ here="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-/tmp/frfup-bench}"
 mkdir -p "$work"
 python3 -c "import scipy" 2>/dev/null || python3 -m pip install --quiet scipy
-(cd "$here" && cargo build --release --example bench_eigen --quiet)
+(cd "$here" && cargo build --release --features bench --example bench_eigen --quiet)
 bin="$here/target/release/examples/bench_eigen"
 gen="$here/scripts/gen_lattice.py"
 [ -f "$work/small.deck" ] || python3 "$gen" plate 18 > "$work/small.deck"

@@ -6,6 +6,6 @@
 # Per-case results: DIR/cases.csv; each case's files and report: DIR/case-NNN/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo build --release --quiet --bin frfup --example random_benchmark
+cargo build --release --quiet --features bench --bin frfup --example random_benchmark
 target="${CARGO_TARGET_DIR:-target}"
 exec "$target/release/examples/random_benchmark" --cases 200 --seed 1 --out random-benchmark --jobs 2 "$@"

@@ -30,7 +30,7 @@ target=${CARGO_TARGET_DIR:-$root/target}
 dir=${BENCH_UFF_DIR:-$target/bench_uff}
 mkdir -p "$dir"
 cd "$root"
-cargo build --release -p frfup-parsers --example gen_campaign --example read_uff --quiet
+cargo build --release -p frfup-parsers --features bench --example gen_campaign --example read_uff --quiet
 if [[ -n ${FRFUP_BIN:-} ]]; then
     cmd=("$(realpath "$FRFUP_BIN")" info)
 elif [[ ${BENCH_UFF_CMD:-frfup} == frfup ]]; then

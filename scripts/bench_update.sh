@@ -15,7 +15,7 @@ here="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-/tmp/frfup-bench-update}"
 mkdir -p "$work"
 python3 -c "import numpy, scipy" 2>/dev/null || python3 -m pip install --quiet numpy scipy
-(cd "$here" && cargo build --release --quiet && cargo build --release --example update_bench --quiet)
+(cd "$here" && cargo build --release --quiet && cargo build --release --features bench --example update_bench --quiet)
 frfup="$here/target/release/frfup"
 bench="$here/target/release/examples/update_bench"
 deck="$here/fixtures/garteur/garteur.deck"

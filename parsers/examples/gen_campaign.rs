@@ -1,7 +1,7 @@
 //! Writes a synthetic measurement campaign through our writer: `channels`
 //! FRFs (dataset 58, complex single, even 0..lines) as ASCII, and its 58b twin.
 //!
-//! `cargo run --release -p frfup-parsers --example gen_campaign -- OUT_ASCII OUT_BINARY [channels] [lines]`
+//! `cargo run --release -p frfup-parsers --features bench --example gen_campaign -- OUT_ASCII OUT_BINARY [channels] [lines]`
 
 use std::io::BufWriter;
 

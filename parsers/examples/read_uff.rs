@@ -1,6 +1,6 @@
 //! Reads UFF files and prints dataset counts, timing and peak memory.
 //!
-//! `cargo run --release -p frfup-parsers --example read_uff -- [--whole] FILE...`
+//! `cargo run --release -p frfup-parsers --features bench --example read_uff -- [--whole] FILE...`
 //!
 //! Default: the streaming reader (`uff::parse_file`). `--whole`: read the file
 //! into memory, then `uff::parse`. Per file one line:
