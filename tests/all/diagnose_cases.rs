@@ -285,12 +285,37 @@ fn report_with_localisation_map_and_frf_overlays() {
     let (deck, test) = load("joint");
     let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("diagnose_report/joint");
-    let _ = std::fs::remove_dir_all(&dir);
+    let (files, bytes) = written_whole_and_deterministic(&d, &deck, &test, &dir);
+    page_and_charts_say_what_they_show(&d, &dir, &files, &bytes);
+    diagnosed_curves_follow_the_test(&d, &deck, &test);
+
+    if !rsvg_available() {
+        return;
+    }
+    let png_dir = dir.with_file_name("joint-png");
+    let _ = std::fs::remove_dir_all(&png_dir);
+    std::fs::create_dir_all(png_dir.join("frf")).unwrap();
+    for f in files.iter().filter(|f| f.ends_with(".svg")) {
+        render_and_check(&dir.join(f), &png_dir.join(f.replace(".svg", ".png")));
+    }
+    eprintln!("PNGs in {}", png_dir.display());
+}
+
+/// `write_outputs` into `dir` (holding a stale chart of a larger run): the
+/// expected files and no other, byte-identical on a re-run. Returns the
+/// files (relative, sorted) and their bytes.
+fn written_whole_and_deterministic(
+    d: &Diagnosis,
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    dir: &Path,
+) -> (Vec<String>, Vec<Vec<u8>>) {
+    let _ = std::fs::remove_dir_all(dir);
     // A channel chart of an earlier, larger run must not survive.
     std::fs::create_dir_all(dir.join("frf")).unwrap();
     std::fs::write(dir.join("frf/99-old.svg"), "<svg/>").unwrap();
-    write_outputs(&d, &deck, &test, &dir, "joint.deck", "joint.uff").unwrap();
-    let files = tree(&dir);
+    write_outputs(d, deck, test, dir, "joint.deck", "joint.uff").unwrap();
+    let files = tree(dir);
     let n = d.channels.len();
     assert_eq!(n, 6);
     let mut expected: Vec<String> = [
@@ -316,8 +341,8 @@ fn report_with_localisation_map_and_frf_overlays() {
         .iter()
         .map(|f| std::fs::read(dir.join(f)).unwrap())
         .collect();
-    write_outputs(&d, &deck, &test, &dir, "joint.deck", "joint.uff").unwrap();
-    assert_eq!(tree(&dir), files, "no temporary or extra file");
+    write_outputs(d, deck, test, dir, "joint.deck", "joint.uff").unwrap();
+    assert_eq!(tree(dir), files, "no temporary or extra file");
     for (f, b) in files.iter().zip(&bytes) {
         assert_eq!(
             &std::fs::read(dir.join(f)).unwrap(),
@@ -325,7 +350,18 @@ fn report_with_localisation_map_and_frf_overlays() {
             "{f} changed on a re-run"
         );
     }
+    (files, bytes)
+}
 
+/// The page (self-contained, every chart inline), the localisation map and
+/// the overlay sheet carry their titles, axes, legends and labels.
+fn page_and_charts_say_what_they_show(
+    d: &Diagnosis,
+    dir: &Path,
+    files: &[String],
+    bytes: &[Vec<u8>],
+) {
+    let n = d.channels.len();
     let text = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
     let html = text("report.html");
     for t in [
@@ -342,6 +378,8 @@ fn report_with_localisation_map_and_frf_overlays() {
         "Hypotheses tried and not accepted",
         "fit ends on a bound",
         "Where the model disagrees with the test",
+        "<div class=\"status ",
+        "Accepted (ringed on the map): <b>joint-flexibility at node 4 (ry)",
     ] {
         assert!(html.contains(t), "report.html lacks {t}");
     }
@@ -373,6 +411,7 @@ fn report_with_localisation_map_and_frf_overlays() {
         "share of FRF error removed (%)",
         "measured node (sensor)",
         "fixed support",
+        "accepted: joint-flexibility at node 4 (ry)",
     ] {
         assert!(map.contains(t), "localisation.svg lacks {t}");
     }
@@ -397,10 +436,12 @@ fn report_with_localisation_map_and_frf_overlays() {
             "{f} is small"
         );
     }
+}
 
-    // The curves are the models': the diagnosed model follows the test
-    // (1 % noise), the deck as given does not.
-    let (o, note) = frfup::report::diagnosis::overlay(&d, &deck, &d.data, &test);
+/// The curves are the models': the diagnosed model follows the test (1 %
+/// noise), the deck as given does not.
+fn diagnosed_curves_follow_the_test(d: &Diagnosis, deck: &Deck, test: &MeasuredFrfs) {
+    let (o, note) = frfup::report::diagnosis::overlay(d, deck, &d.data, test);
     assert!(note.is_none(), "{note:?}");
     assert_eq!(o.series_labels.len(), 4);
     let (given, diagnosed) = (log_misfit(&o.channels, 1), log_misfit(&o.channels, 3));
@@ -415,15 +456,4 @@ fn report_with_localisation_map_and_frf_overlays() {
         "{:?}",
         o.series_labels
     );
-
-    if !rsvg_available() {
-        return;
-    }
-    let png_dir = dir.with_file_name("joint-png");
-    let _ = std::fs::remove_dir_all(&png_dir);
-    std::fs::create_dir_all(png_dir.join("frf")).unwrap();
-    for f in files.iter().filter(|f| f.ends_with(".svg")) {
-        render_and_check(&dir.join(f), &png_dir.join(f.replace(".svg", ".png")));
-    }
-    eprintln!("PNGs in {}", png_dir.display());
 }

@@ -204,7 +204,14 @@ fn syntax_errors() {
 
 #[test]
 fn semantic_errors() {
-    // Missing / duplicate IDs and names.
+    duplicate_ids_and_names();
+    undefined_references();
+    non_positive_properties();
+    parameters_on_missing_ids_or_quantities();
+    analysis_restrictions();
+}
+
+fn duplicate_ids_and_names() {
     assert_err(
         &format!("{BASE}node 2 0 1 0\n"),
         8,
@@ -253,7 +260,9 @@ fn semantic_errors() {
         8,
         "duplicate sensor",
     );
-    // Undefined references.
+}
+
+fn undefined_references() {
     assert_err(
         &format!("{BASE}beam 2 1 9 m s\n"),
         8,
@@ -290,7 +299,9 @@ fn semantic_errors() {
         10,
         "undefined node 2",
     );
-    // Non-positive properties.
+}
+
+fn non_positive_properties() {
     assert_err("material m E=0 rho=1\n", 1, 14, "must be positive");
     assert_err("material m E=1 rho=-1\n", 1, 20, "must be positive");
     assert_err("material m E=1 rho=1 G=0\n", 1, 24, "must be positive");
@@ -321,7 +332,10 @@ fn semantic_errors() {
         "must be positive",
     );
     assert_err("damping modal -0.01\n", 1, 15, "must not be negative");
-    // Parameters on IDs that do not exist or quantities that do not apply.
+}
+
+/// Parameters on IDs that do not exist or quantities that do not apply.
+fn parameters_on_missing_ids_or_quantities() {
     assert_err(
         &format!("{BASE}param p E 1-2\n"),
         8,
@@ -338,7 +352,9 @@ fn semantic_errors() {
         11,
         "does not apply",
     );
-    // Analysis restrictions.
+}
+
+fn analysis_restrictions() {
     assert_err("analysis plane\nnode 1 0 0.5 0\n", 2, 10, "requires y = 0");
     assert_err("section s A=1 Iy=1 J=1\n", 1, 1, "lacks `Iz=");
     assert_err("section s A=1 Iy=1 Iz=1\n", 1, 1, "lacks `J=");
