@@ -627,7 +627,7 @@ fn frequency_table(s: &mut String, result: &UpdateResult) {
         let cells = |x: Option<(f64, f64)>| match x {
             Some((f, m)) => (
                 fx(f, 3),
-                signed(100.0 * (f - r.test_hz) / r.test_hz, 2),
+                signed(100.0 * (f - r.test_hz) / r.test_hz, 3),
                 fx(m, 3),
             ),
             None => ("–".into(), "–".into(), "–".into()),
