@@ -413,7 +413,12 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
     }
     print!("{}", commands::diagnose::summary(&d));
     println!("wrote {}", a.out.display());
-    Ok(())
+    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
+    if verdict.is_conclusive() {
+        Ok(())
+    } else {
+        Err(CommandError::threshold(verdict.status()))
+    }
 }
 
 fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {

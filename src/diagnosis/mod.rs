@@ -17,6 +17,7 @@ pub mod hypotheses;
 pub mod localise;
 pub mod refit;
 pub mod select;
+pub mod verdict;
 
 mod final_damping;
 mod first_stage;
