@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 
 use super::output::finding_values;
 use super::MODEL_NAMES;
+use crate::diagnosis::verdict::Verdict;
 use crate::diagnosis::{sig, Diagnosis, FitQuality};
 use crate::report::html::{chart, esc, frf_charts, CSS};
 
@@ -31,33 +32,18 @@ fn quality_rows(d: &Diagnosis) -> [(&'static str, &FitQuality); 3] {
     ]
 }
 
-/// The outcome of a diagnosis at a glance: (CSS class, mark, word, detail).
-pub fn verdict(d: &Diagnosis) -> (&'static str, &'static str, &'static str, String) {
-    let err = num(d.diagnosed.frf_error, 2);
-    if d.at_noise_level {
-        (
-            "ok",
-            "✔",
-            "EXPLAINED",
-            format!(
-                "The diagnosed model fits the test to the noise level (FRF error {err}, 1 = noise)"
-            ),
-        )
-    } else if d.findings.is_empty() {
-        (
-            "fail",
-            "✘",
-            "NOT EXPLAINED",
-            format!("No hypothesis of the dictionary was accepted and the FRF error is {err}× the noise level"),
-        )
-    } else {
-        (
-            "amber",
-            "⚠",
-            "PARTLY EXPLAINED",
-            format!("The findings below were accepted, but the FRF error is still {err}× the noise level: physics outside the dictionary, or effects too weak to separate"),
-        )
-    }
+/// The diagnosis' [`Verdict`] at a glance: (CSS class, mark, word,
+/// sentence). Green only when conclusive (explained, nothing missing); amber
+/// when physics may be missing (partly explained, absorbed by large
+/// parameter changes); red when unexplained.
+pub fn verdict(d: &Diagnosis) -> (&'static str, &'static str, String, String) {
+    let v = Verdict::of(d);
+    let (class, mark) = match v {
+        Verdict::Explained | Verdict::NothingMissing => ("ok", "✔"),
+        Verdict::PartlyExplained { .. } | Verdict::AbsorbedByParameters { .. } => ("amber", "⚠"),
+        Verdict::Unexplained { .. } => ("fail", "✘"),
+    };
+    (class, mark, v.status().to_uppercase(), v.sentence())
 }
 
 /// `report.html`: the content of `report.md` with the charts inline.
@@ -107,7 +93,8 @@ fn header(s: &mut String, d: &Diagnosis, deck_name: &str, test_name: &str) {
     let (class, mark, word, detail) = verdict(d);
     let _ = writeln!(
         s,
-        "<div class=\"status {class}\" role=\"status\"><b class=\"word\">{mark} Status: {word}</b><br>{}.</div>",
+        "<div class=\"status {class}\" role=\"status\"><b class=\"word\">{mark} Status: {}</b><br>{}</div>",
+        esc(&word),
         esc(&detail)
     );
     let found: Vec<String> = d
@@ -226,11 +213,7 @@ fn where_section(s: &mut String, d: &Diagnosis, charts: &Embedded) {
 fn physics(s: &mut String, d: &Diagnosis) {
     let _ = writeln!(s, "<h2 id=\"physics\">Which physics explains it</h2>");
     if d.findings.is_empty() {
-        s.push_str(if d.at_noise_level {
-            "<p>Nothing is missing: the deck's own parameters explain the test to the noise level.</p>\n"
-        } else {
-            "<p>No hypothesis of the dictionary was accepted.</p>\n"
-        });
+        let _ = writeln!(s, "<p>{}</p>", esc(&Verdict::of(d).sentence()));
         return;
     }
     s.push_str("<table>\n<tr><th class=\"l\">physics</th><th class=\"l\">hypothesis (where)</th><th class=\"l\">fitted values ± 1 standard deviation</th><th>held-out error before</th><th>after</th></tr>\n");
@@ -273,11 +256,7 @@ fn improved(s: &mut String, d: &Diagnosis) {
         num(d.initial.frf_error, 2),
         num(d.updated.frf_error, 2),
         num(d.diagnosed.frf_error, 2),
-        if d.at_noise_level {
-            "The diagnosed model explains the test to the noise level."
-        } else {
-            "Some disagreement remains above the noise level: physics outside the dictionary, or effects too weak to separate."
-        }
+        esc(&Verdict::of(d).sentence())
     );
     let _ = writeln!(
         s,
