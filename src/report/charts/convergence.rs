@@ -350,9 +350,9 @@ fn small_panel(
         .margin_right(10)
         .margin_top(4)
         .x_label_area_size(20)
-        .y_label_area_size(52)
+        .y_label_area_size(58)
         .build_cartesian_2d(x.range.0..x.range.1, y_range.0..y_range.1)?;
-    let yfmt = tick_label(y_range, 3);
+    let yfmt = compact_tick_label(y_range, 3);
     draw_mesh(
         &mut chart,
         &Axes {
@@ -367,6 +367,23 @@ fn small_panel(
     hline(&mut chart, 0.0, x.range, GREY.stroke_width(1))?;
     marks(root, &mut chart, c, y_range, false)?;
     draw_line(&mut chart, &pts, series_color(0), Marker::Circle, 2)
+}
+
+/// Tick labels of a small panel: fixed decimals, or `2.5e-5` when the
+/// ticks are closer than 0.001 (fixed decimals would not fit the panel).
+fn compact_tick_label(range: (f64, f64), n: usize) -> Box<dyn Fn(&f64) -> String> {
+    let step = super::nice_step((range.1 - range.0).abs() / n.max(1) as f64);
+    if step >= 1e-3 {
+        Box::new(tick_label(range, n))
+    } else {
+        Box::new(move |v: &f64| {
+            if v.abs() < step * 1e-6 {
+                "0".into()
+            } else {
+                format!("{v:.1e}")
+            }
+        })
+    }
 }
 
 /// −log₁₀(1 − s), with 1 − s floored at [`FLOOR`].
@@ -486,6 +503,14 @@ mod tests {
             assert!(a.contains(t), "missing {t}");
         }
         assert_eq!(a, render(&c).unwrap());
+    }
+
+    #[test]
+    fn tiny_ticks_are_compact() {
+        let f = compact_tick_label((-2e-5, 1e-5), 3);
+        assert_eq!(f(&-1e-5), "-1.0e-5");
+        assert_eq!(f(&0.0), "0");
+        assert!(!compact_tick_label((0.0, 0.3), 3)(&0.1).contains('e'));
     }
 
     #[test]
