@@ -9,7 +9,7 @@ use frfup_parsers::deck::Deck;
 
 use super::charts::{
     ConvergenceChart, FrequencyChart, FrfChannel, FrfOverlay, MacChart, MacPanel, ModeFrequencies,
-    NamedSeries, ResonanceMark, SfdacChart,
+    NamedSeries, ResonanceMark, SfdacChart, StageMark,
 };
 use super::output::frequency_rows;
 use crate::testdata::{FrfKind, MeasuredFrfs};
@@ -159,6 +159,23 @@ fn convergence_chart(result: &UpdateResult, title: &str) -> ConvergenceChart {
             .iterations
             .get(result.final_iteration)
             .map(|r| r.index),
+        stages: stage_marks(result),
+    }
+}
+
+/// The full-band estimate, when the run made one and kept it, is the last
+/// record: marked as a stage of its own.
+fn stage_marks(result: &UpdateResult) -> Vec<StageMark> {
+    let rejected = result
+        .warnings
+        .iter()
+        .any(|w| matches!(w, crate::updating::UpdateWarning::EstimateRejected { .. }));
+    match (&result.estimate, result.iterations.last()) {
+        (Some(_), Some(last)) if !rejected && last.index > 0 => vec![StageMark {
+            at: last.index,
+            label: "full-band estimate".into(),
+        }],
+        _ => Vec::new(),
     }
 }
 
@@ -338,11 +355,11 @@ fn mac_chart(
     last_pairs: &[Option<ModePair>],
 ) -> MacChart {
     let mut c = MacChart {
-        title: "MAC: test operating deflection shapes vs FE modes".into(),
-        subtitle: Some(
-            "shapes on the measured DOFs; outlined cells: the pairing used for the frequency table"
-                .into(),
-        ),
+        title: "MAC of the test's operating deflection shapes (ODS) vs FE modes".into(),
+        subtitle: Some(format!(
+            "ODS = measured FRFs at each resonance line; outlined: the frequency table's pairs (made with the {})",
+            super::prose::pairing_shapes(result)
+        )),
         row_labels: result
             .resonances
             .iter()

@@ -69,15 +69,20 @@ fn scale(v: f64) -> String {
     }
 }
 
-const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222;line-height:1.4}\
+/// The style of every page (update and diagnosis reports): tables scroll
+/// inside their own box so the page is never wider than the window; status
+/// boxes green (passed), red (failed) or amber (passed with a caveat), each
+/// with its word and mark so colour is never the only signal.
+pub(crate) const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222;line-height:1.4;overflow-wrap:anywhere}\
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
-table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
+table{border-collapse:collapse;margin:.6em 0;font-size:.92em;display:block;max-width:100%;overflow-x:auto}\
+th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right;overflow-wrap:normal}\
 th{background:#f2f2f2}td.l,th.l{text-align:left}tr.sel td{background:#eef5ff;font-weight:bold}\
-.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #888}\
+.chart{max-width:100%}.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #888}\
 .status{padding:.7em 1em;margin:.8em 0;border:2px solid;border-radius:4px;font-size:1.05em}\
 .status b.word{font-size:1.25em;letter-spacing:.02em}.status.ok{background:#e6f4ea;border-color:#1e7e34;color:#0f4d1f}\
 .status.fail{background:#fdecea;border-color:#c62828;color:#7f1010}.status.amber{background:#fff4e0;border-color:#e08a00;color:#6b4100}\
-.warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em}";
+.warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em;overflow-wrap:anywhere}li{margin:.2em 0}";
 
 fn row(s: &mut String, cells: &[(&str, String)]) {
     s.push_str("<tr>");
@@ -170,6 +175,7 @@ pub fn report_html(
     frequency_table(&mut s, result);
 
     let _ = writeln!(s, "<h2 id=\"mac\">Mode shape correlation (MAC)</h2>");
+    let _ = writeln!(s, "<p>{}</p>", super::prose::mac_sources(result).html());
     chart(&mut s, &charts.mac);
 
     let _ = writeln!(
@@ -191,33 +197,10 @@ pub fn report_html(
 }
 
 fn summary(s: &mut String, result: &UpdateResult) {
-    let (Some(first), Some(last)) = (
-        result.iterations.first(),
-        result.iterations.get(result.final_iteration),
-    ) else {
-        s.push_str("<p class=\"summary\">The run holds no iteration.</p>\n");
-        return;
-    };
-    let rows = frequency_rows(result);
-    let dev = |u: bool| {
-        mean_abs_dev(&rows, u)
-            .map(|v| format!("{} %", fx(v, 2)))
-            .unwrap_or_else(|| "–".into())
-    };
     let _ = writeln!(
         s,
-        "<p class=\"summary\"><b>{}</b> after {} iteration(s) ({}); returned iteration {}.<br>\
-         SFDAC mean {} → <b>{}</b>, minimum {} → <b>{}</b>; mean |Δf| of the paired resonances {} → <b>{}</b>.</p>",
-        if result.converged { "Converged" } else { "Not converged" },
-        result.iterations.len().saturating_sub(1),
-        esc(result.stop.name()),
-        result.final_iteration,
-        fx(first.sfdac.mean, 3),
-        fx(last.sfdac.mean, 3),
-        fx(first.sfdac.min, 3),
-        fx(last.sfdac.min, 3),
-        dev(false),
-        dev(true)
+        "<p class=\"summary\">{}</p>",
+        super::prose::update_summary(result).html()
     );
 }
 
@@ -273,14 +256,13 @@ fn estimate_section(s: &mut String, result: &UpdateResult, deck: &Deck) {
     }
     s.push_str("</table>\n");
     if !priors {
-        s.push_str("<p class=\"muted\">The deck gives no bounds or priors (<code>param … min= max= sd=</code>): defaults apply.</p>\n");
+        let _ = writeln!(
+            s,
+            "<p class=\"muted\">{}</p>",
+            super::prose::no_priors().html()
+        );
     }
-    let _ = writeln!(
-        s,
-        "<p>Misfit {}× the noise level; {}.</p>",
-        fx(est.misfit, 2),
-        esc(&status::damping_sentence(est))
-    );
+    let _ = writeln!(s, "<p>{}</p>", super::prose::estimate_sentence(est).html());
     let unseen = status::unseen_directions(est);
     if !unseen.is_empty() {
         s.push_str("<p>Directions in parameter space these data do not determine:</p>\n<ul>\n");
@@ -519,36 +501,38 @@ fn options(s: &mut String, result: &UpdateResult, inputs: &ReportInputs) {
     kv(s, &rows);
 }
 
-fn parameters_table(s: &mut String, result: &UpdateResult) {
-    s.push_str("<table>\n<tr><th>iteration n</th>");
-    for n in &result.parameter_names {
-        let _ = write!(s, "<th>p̄ {}</th>", esc(n));
+/// σ₁/σ_rank of an iteration's system, or "–".
+fn condition(r: &crate::updating::IterationRecord) -> String {
+    match (
+        r.singular_values.first(),
+        r.rank.checked_sub(1).and_then(|k| r.singular_values.get(k)),
+    ) {
+        (Some(a), Some(b)) if *b > 0.0 => format!("{:.3e}", a / b),
+        _ => "–".into(),
     }
-    s.push_str("<th>SFDAC mean</th><th>SFDAC min</th><th>rank</th><th>σ₁/σ_rank</th><th>step scale</th></tr>\n");
+}
+
+fn row_open(s: &mut String, selected: bool) {
+    s.push_str(if selected {
+        "<tr class=\"sel\">"
+    } else {
+        "<tr>"
+    });
+}
+
+/// The iterations in a few columns (SFDAC, rank, conditioning, largest
+/// step), then p̄ of every parameter at every iteration folded under a
+/// summary: one row per parameter, so the table grows down, not sideways.
+fn parameters_table(s: &mut String, result: &UpdateResult) {
+    s.push_str("<table>\n<tr><th>iteration n</th><th>SFDAC mean</th><th>SFDAC min</th><th>rank</th><th>σ₁/σ_rank</th><th>step scale</th><th>max |p<sup>n</sup>| (step)</th></tr>\n");
     for (i, r) in result.iterations.iter().enumerate() {
-        let _ = write!(
+        row_open(s, i == result.final_iteration);
+        let max_step = r.step.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+        let _ =
+            writeln!(
             s,
-            "<tr{}><td>{}</td>",
-            if i == result.final_iteration {
-                " class=\"sel\""
-            } else {
-                ""
-            },
-            r.index
-        );
-        for p in &r.parameters {
-            let _ = write!(s, "<td>{}</td>", signed(*p, 5));
-        }
-        let cond = match (
-            r.singular_values.first(),
-            r.rank.checked_sub(1).and_then(|k| r.singular_values.get(k)),
-        ) {
-            (Some(a), Some(b)) if *b > 0.0 => format!("{:.3e}", a / b),
-            _ => "–".into(),
-        };
-        let _ = writeln!(
-            s,
-            "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            "<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            r.index,
             fx(r.sfdac.mean, 4),
             fx(r.sfdac.min, 4),
             if r.index == 0 {
@@ -556,11 +540,36 @@ fn parameters_table(s: &mut String, result: &UpdateResult) {
             } else {
                 format!("{} / {}", r.rank, result.parameter_names.len())
             },
-            cond,
-            scale(r.step_scale)
+            condition(r),
+            scale(r.step_scale),
+            if r.index == 0 { "–".into() } else { scale(max_step) }
         );
     }
-    s.push_str("</table>\n<p class=\"muted\">p̄: relative change of each parameter from its deck value (dimensionless); the highlighted row is the returned model.</p>\n");
+    s.push_str("</table>\n<p class=\"muted\">The highlighted row is the returned model.</p>\n");
+    let _ = writeln!(
+        s,
+        "<details><summary>p̄ of each parameter at each iteration ({} parameters × {} iterations; also in <code>parameters.csv</code>)</summary>",
+        result.parameter_names.len(),
+        result.iterations.len()
+    );
+    s.push_str("<table>\n<tr><th class=\"l\">parameter</th>");
+    for (i, r) in result.iterations.iter().enumerate() {
+        if i == result.final_iteration {
+            let _ = write!(s, "<th>n = {} (returned)</th>", r.index);
+        } else {
+            let _ = write!(s, "<th>n = {}</th>", r.index);
+        }
+    }
+    s.push_str("</tr>\n");
+    for (j, name) in result.parameter_names.iter().enumerate() {
+        let _ = write!(s, "<tr><td class=\"l\">{}</td>", esc(name));
+        for r in &result.iterations {
+            let p = r.parameters.get(j).copied().unwrap_or(f64::NAN);
+            let _ = write!(s, "<td>{}</td>", signed(p, 4));
+        }
+        s.push_str("</tr>\n");
+    }
+    s.push_str("</table>\n</details>\n<p class=\"muted\">p̄: relative change of each parameter from its deck value (dimensionless).</p>\n");
 }
 
 fn sfdac_table(s: &mut String, result: &UpdateResult) {
@@ -609,12 +618,16 @@ fn frequency_table(s: &mut String, result: &UpdateResult) {
         return;
     }
     let rows = frequency_rows(result);
-    s.push_str("<table>\n<tr><th>resonance</th><th>test (Hz)</th><th>initial (Hz)</th><th>deviation (%)</th><th>MAC</th><th>updated (Hz)</th><th>deviation (%)</th><th>MAC</th></tr>\n");
+    let mac = esc(super::prose::pairing_mac_header(result));
+    let _ = writeln!(
+        s,
+        "<table>\n<tr><th>resonance</th><th>test (Hz)</th><th>initial (Hz)</th><th>deviation (%)</th><th>{mac}</th><th>updated (Hz)</th><th>deviation (%)</th><th>{mac}</th></tr>"
+    );
     for (i, r) in rows.iter().enumerate() {
         let cells = |x: Option<(f64, f64)>| match x {
             Some((f, m)) => (
                 fx(f, 3),
-                signed(100.0 * (f - r.test_hz) / r.test_hz, 2),
+                signed(100.0 * (f - r.test_hz) / r.test_hz, 3),
                 fx(m, 3),
             ),
             None => ("–".into(), "–".into(), "–".into()),

@@ -18,6 +18,7 @@ pub mod data;
 pub mod diagnosis;
 pub mod html;
 pub mod output;
+pub mod prose;
 pub mod status;
 pub mod tables;
 

@@ -315,12 +315,7 @@ fn estimate_md(s: &mut String, result: &UpdateResult, deck: &Deck) {
             r.name, r.value, r.sd, r.verdict, r.prior
         );
     }
-    let _ = writeln!(
-        s,
-        "\nMisfit {:.2}× the noise level; {}.\n",
-        est.misfit,
-        status::damping_sentence(est)
-    );
+    let _ = writeln!(s, "\n{}\n", super::prose::estimate_sentence(est).markdown());
     let unseen = status::unseen_directions(est);
     if !unseen.is_empty() {
         s.push_str("Directions in parameter space these data do not determine:\n\n");
@@ -335,19 +330,8 @@ fn estimate_md(s: &mut String, result: &UpdateResult, deck: &Deck) {
 pub fn report_md_with_notes(result: &UpdateResult, deck: &Deck, notes: &[String]) -> String {
     let mut s = String::from("# FRF model updating report\n\n");
     status_md(&mut s, result);
-    let last = result.final_record();
-    let _ = writeln!(
-        s,
-        "{} after {} iteration(s) ({}); returned iteration {}. SFDAC mean {:.4} → {:.4}, min {:.4} → {:.4}.\n",
-        if result.converged { "Converged" } else { "Not converged" },
-        result.iterations.len() - 1,
-        result.stop.name(),
-        result.final_iteration,
-        result.iterations[0].sfdac.mean,
-        last.sfdac.mean,
-        result.iterations[0].sfdac.min,
-        last.sfdac.min
-    );
+    let _ = writeln!(s, "{}\n", super::prose::update_summary(result).markdown());
+
     let _ = writeln!(
         s,
         "{} measured DOFs, excitation {}, {} modes in the SEREP basis, {} updating frequencies (Hz): {}.\n",
@@ -434,6 +418,7 @@ pub fn report_md_with_notes(result: &UpdateResult, deck: &Deck, notes: &[String]
     if let (Some(a), Some(b)) = (mean_abs_dev(&rows, false), mean_abs_dev(&rows, true)) {
         let _ = writeln!(s, "| mean \\|dev\\| | | | {a:.2} | | {b:.2} |");
     }
+    let _ = writeln!(s, "\n{}", super::prose::mac_sources(result).markdown());
     if !result.warnings.is_empty() || !notes.is_empty() {
         s.push_str("\n## Warnings\n\n");
         for w in &result.warnings {

@@ -5,7 +5,8 @@
 //! * `iterations.csv`: rank, step scale and the step p^n of every iteration;
 //! * `resonances.csv`: the measured resonances (peak picking);
 //! * `updating-frequencies.csv`: the updating frequencies used and skipped;
-//! * `mac.csv`: the MAC matrices of the report (long format);
+//! * `mac.csv`: the MAC matrices of the MAC chart (long format): the test's
+//!   operating deflection shapes against the FE modes, hence `mac_ods`;
 //! * `frf.csv`: measured, initial and updated FRFs (long format).
 
 use super::data::ReportData;
@@ -142,7 +143,7 @@ pub fn updating_frequencies_csv(result: &UpdateResult) -> String {
 /// `mac.csv`.
 pub fn mac_csv(data: &ReportData) -> String {
     let mut rows = vec![header(
-        "model,test_resonance,test_label,fe_mode_hz,mac,paired",
+        "model,test_resonance,test_label,fe_mode_hz,mac_ods,paired",
     )];
     for p in &data.mac.panels {
         for (t, row) in p.values.iter().enumerate() {

@@ -382,6 +382,8 @@ fn page_and_charts_say_what_they_show(
         "Hypotheses tried and not accepted",
         "fit ends on a bound",
         "Where the model disagrees with the test",
+        "<div class=\"status ",
+        "Accepted (ringed on the map): <b>joint-flexibility at node 4 (ry)",
     ] {
         assert!(html.contains(t), "report.html lacks {t}");
     }
@@ -413,6 +415,7 @@ fn page_and_charts_say_what_they_show(
         "share of FRF error removed (%)",
         "measured node (sensor)",
         "fixed support",
+        "accepted: joint-flexibility at node 4 (ry)",
     ] {
         assert!(map.contains(t), "localisation.svg lacks {t}");
     }

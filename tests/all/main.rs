@@ -20,6 +20,7 @@ mod model_closed_form;
 mod model_derivatives;
 mod model_invariants;
 mod random_benchmark;
+mod report_browser;
 mod report_render;
 mod report_status;
 mod solvers_eigen;

@@ -494,7 +494,8 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
                 .x_label_formatter(&xfmt)
                 .y_label_formatter(&log_label)
                 .x_labels(xfmt_n)
-                .y_labels(((d1 - d0) as usize / 2 + 1).clamp(2, 5))
+                // Every decade labelled (at most 8 in a 260 px panel).
+                .y_labels((d1 - d0 + 1).clamp(3, 8) as usize)
                 .label_style(font(10.0))
                 .axis_desc_style(font(10.0))
                 .bold_line_style(LIGHT_GREY.stroke_width(1))

@@ -42,6 +42,30 @@ pub struct LocalisationMap {
     pub lines: Vec<(usize, usize)>,
     /// How many of the best-scored nodes get a text label.
     pub labelled: usize,
+    /// The accepted findings, each ringed in its own colour at its nodes.
+    pub findings: Vec<MapFinding>,
+}
+
+/// An accepted finding of the diagnosis on the map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapFinding {
+    /// e.g. "support-flexibility at node 1 (ry)".
+    pub label: String,
+    /// Indices into [`LocalisationMap::nodes`].
+    pub nodes: Vec<usize>,
+}
+
+/// Ring colours of the findings (blue, green, purple, teal): none on the
+/// yellow–red score scale.
+const FINDING_COLORS: [RGBColor; 4] = [
+    RGBColor(0, 90, 200),
+    RGBColor(0, 140, 70),
+    RGBColor(120, 60, 170),
+    RGBColor(0, 130, 140),
+];
+
+fn finding_color(i: usize) -> RGBColor {
+    FINDING_COLORS[i % FINDING_COLORS.len()]
 }
 
 const WIDTH: u32 = 960;
@@ -91,8 +115,8 @@ fn radius(score: f64, top: f64) -> i32 {
     (4.0 + 9.0 * (score / top).clamp(0.0, 1.0).sqrt()).round() as i32
 }
 
-fn legend_entries() -> Vec<LegendEntry> {
-    vec![
+fn legend_entries(m: &LocalisationMap) -> Vec<LegendEntry> {
+    let mut e = vec![
         LegendEntry::new("beam", GREY, Swatch::Line { width: 3 }),
         LegendEntry::new("node", RGBColor(90, 90, 90), Swatch::Marker(Marker::Circle)),
         LegendEntry::new(
@@ -102,11 +126,19 @@ fn legend_entries() -> Vec<LegendEntry> {
         ),
         LegendEntry::new("fixed support", DARK, Swatch::Bar),
         LegendEntry::new(
-            "scored node (colour and size: score)",
+            "localisation score of a node (colour and size)",
             score_color(0.75),
             Swatch::Marker(Marker::Circle),
         ),
-    ]
+    ];
+    for (i, f) in m.findings.iter().enumerate() {
+        e.push(LegendEntry::new(
+            format!("accepted: {}", f.label),
+            finding_color(i),
+            Swatch::Line { width: 4 },
+        ));
+    }
+    e
 }
 
 /// Data ranges with equal scales for a plot of `pw` px wide; returns the
@@ -145,7 +177,7 @@ pub fn render(m: &LocalisationMap) -> Result<String, ChartError> {
             draw_no_data(root, &m.title, "the deck has no nodes")
         });
     }
-    let entries = legend_entries();
+    let entries = legend_entries(m);
     let lh = legend_height(&entries, WIDTH as i32 - 40);
     let th = title_height(m.subtitle.is_some());
     let (left, right, top_m, bottom) = (72, BAR_W + 20, 10, 46);
@@ -179,7 +211,6 @@ pub fn render(m: &LocalisationMap) -> Result<String, ChartError> {
                 y_labels: 7,
             },
         )?;
-        // Beams.
         for &(a, b) in &m.lines {
             if let (Some(p), Some(q)) = (m.nodes.get(a), m.nodes.get(b)) {
                 chart.draw_series(std::iter::once(PathElement::new(
@@ -188,139 +219,181 @@ pub fn render(m: &LocalisationMap) -> Result<String, ChartError> {
                 )))?;
             }
         }
-        let px = |n: &MapNode| chart.backend_coord(&(n.x, n.y));
-        // Plain nodes.
-        for n in &m.nodes {
-            let (x, y) = px(n);
-            root.draw(&Circle::new((x, y), 3, RGBColor(90, 90, 90).filled()))?;
-        }
-        // Scored nodes, smallest score first so the best lie on top.
-        let mut scored: Vec<&MapNode> = m
-            .nodes
-            .iter()
-            .filter(|n| n.score.is_some_and(|s| s.is_finite() && s > 0.0))
-            .collect();
-        scored.sort_by(|a, b| {
-            a.score
-                .unwrap_or(0.0)
-                .total_cmp(&b.score.unwrap_or(0.0))
-                .then(b.id.cmp(&a.id))
-        });
-        for n in &scored {
-            let s = n.score.unwrap_or(0.0);
-            let (x, y) = px(n);
-            let r = radius(s, top);
-            root.draw(&Circle::new((x, y), r, score_color(s / top).filled()))?;
-            root.draw(&Circle::new((x, y), r, DARK.stroke_width(1)))?;
-        }
-        // Sensors: a small triangle above the node; supports: a ground bar
-        // below it (both outside the disc, so neither hides the other).
-        for n in &m.nodes {
-            let (x, y) = px(n);
-            let r = n.score.map_or(3, |s| radius(s, top));
-            if n.measured {
-                let base = y - r - 2;
-                root.draw(&Polygon::new(
-                    vec![(x - 5, base), (x + 5, base), (x, base - 8)],
-                    DARK.filled(),
-                ))?;
-            }
-            if n.fixed {
-                root.draw(&Rectangle::new(
-                    [(x - 10, y + r + 2), (x + 10, y + r + 7)],
-                    DARK.filled(),
-                ))?;
-            }
-        }
-        // Labels of the best nodes, placed where they overlap nothing.
-        let (pxr, pyr) = chart.plotting_area().get_pixel_range();
-        let bounds = (
-            pxr.start as f64,
-            pyr.start as f64,
-            pxr.end as f64,
-            pyr.end as f64,
-        );
-        let mut taken: Vec<Rect> = Vec::new();
-        for n in &m.nodes {
-            let (x, y) = px(n);
-            let r = n.score.map_or(4, |s| radius(s, top)) as f64;
-            taken.push((x as f64 - r, y as f64 - r, x as f64 + r, y as f64 + r));
-            if n.measured {
-                taken.push((
-                    x as f64 - 6.0,
-                    y as f64 - r - 11.0,
-                    x as f64 + 6.0,
-                    y as f64 - r,
-                ));
-            }
-            if n.fixed {
-                taken.push((
-                    x as f64 - 11.0,
-                    y as f64 + r,
-                    x as f64 + 11.0,
-                    y as f64 + r + 8.0,
-                ));
-            }
-        }
-        let mut best: Vec<&MapNode> = scored.clone();
-        best.reverse();
-        for n in best.iter().take(m.labelled) {
-            let s = n.score.unwrap_or(0.0);
-            let text = format!("node {}: {} %", n.id, fmt_fixed(100.0 * s, 0));
-            let w = text_width(&text, LABEL_PX) + 4.0;
-            let h = LABEL_PX + 4.0;
-            let (x, y) = px(n);
-            let (x, y) = (x as f64, y as f64);
-            let r = radius(s, top) as f64 + 4.0;
-            // Candidate boxes (left, top): above, below, right, left, diagonals,
-            // then further away.
-            let mut cands: Vec<(f64, f64)> = Vec::new();
-            for k in [1.0, 2.2, 3.4] {
-                let d = r * k;
-                cands.extend([
-                    (x - w / 2.0, y - d - h - 10.0),
-                    (x - w / 2.0, y + d),
-                    (x + d, y - h / 2.0),
-                    (x - d - w, y - h / 2.0),
-                    (x + d * 0.7, y - d * 0.7 - h),
-                    (x - d * 0.7 - w, y - d * 0.7 - h),
-                    (x + d * 0.7, y + d * 0.7),
-                    (x - d * 0.7 - w, y + d * 0.7),
-                ]);
-            }
-            let inside =
-                |b: Rect| b.0 >= bounds.0 && b.1 >= bounds.1 && b.2 <= bounds.2 && b.3 <= bounds.3;
-            let pick = cands
-                .iter()
-                .map(|&(l, t)| (l, t, l + w, t + h))
-                .find(|&b| inside(b) && !taken.iter().any(|&o| overlaps(b, o)))
-                .or_else(|| {
-                    cands
-                        .iter()
-                        .map(|&(l, t)| (l, t, l + w, t + h))
-                        .find(|&b| inside(b))
-                });
-            let Some(b) = pick else { continue };
-            taken.push(b);
-            root.draw(&Rectangle::new(
-                [
-                    (b.0.round() as i32, b.1.round() as i32),
-                    (b.2.round() as i32, b.3.round() as i32),
-                ],
-                WHITE.mix(0.85).filled(),
-            ))?;
-            root.draw_text(
-                &text,
-                &font(LABEL_PX).pos(Pos::new(HPos::Left, VPos::Center)),
-                (
-                    (b.0 + 2.0).round() as i32,
-                    ((b.1 + b.3) / 2.0).round() as i32,
-                ),
-            )?;
-        }
+        let scored = draw_nodes(root, &chart, m, top)?;
+        draw_findings(root, &chart, m, top)?;
+        draw_labels(root, &chart, m, top, &scored)?;
+        let (_, pyr) = chart.plotting_area().get_pixel_range();
         draw_colour_bar(&bar_a, top, (pyr.start, pyr.end), th + lh)?;
         Ok(())
     })
+}
+
+/// Radius (px) a node takes on the map: its disc, or the plain dot.
+fn node_radius(n: &MapNode, top: f64) -> i32 {
+    n.score
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .map_or(3, |s| radius(s, top))
+}
+
+/// Plain nodes, scored discs (best on top), sensors and supports; returns
+/// the scored nodes, best last.
+fn draw_nodes<'m>(
+    root: &super::Area,
+    chart: &super::Chart2d,
+    m: &'m LocalisationMap,
+    top: f64,
+) -> Result<Vec<&'m MapNode>, ChartError> {
+    let px = |n: &MapNode| chart.backend_coord(&(n.x, n.y));
+    for n in &m.nodes {
+        root.draw(&Circle::new(px(n), 3, RGBColor(90, 90, 90).filled()))?;
+    }
+    let mut scored: Vec<&MapNode> = m
+        .nodes
+        .iter()
+        .filter(|n| n.score.is_some_and(|s| s.is_finite() && s > 0.0))
+        .collect();
+    scored.sort_by(|a, b| {
+        a.score
+            .unwrap_or(0.0)
+            .total_cmp(&b.score.unwrap_or(0.0))
+            .then(b.id.cmp(&a.id))
+    });
+    for n in &scored {
+        let s = n.score.unwrap_or(0.0);
+        let r = radius(s, top);
+        root.draw(&Circle::new(px(n), r, score_color(s / top).filled()))?;
+        root.draw(&Circle::new(px(n), r, DARK.stroke_width(1)))?;
+    }
+    // Sensors: a small triangle above the node; supports: a ground bar
+    // below it (both outside the disc, so neither hides the other).
+    for n in &m.nodes {
+        let (x, y) = px(n);
+        let r = node_radius(n, top);
+        if n.measured {
+            let base = y - r - 2;
+            root.draw(&Polygon::new(
+                vec![(x - 5, base), (x + 5, base), (x, base - 8)],
+                DARK.filled(),
+            ))?;
+        }
+        if n.fixed {
+            root.draw(&Rectangle::new(
+                [(x - 10, y + r + 2), (x + 10, y + r + 7)],
+                DARK.filled(),
+            ))?;
+        }
+    }
+    Ok(scored)
+}
+
+/// A thick ring around each node of each accepted finding, outside the
+/// score disc (a second finding at the same node gets a wider ring).
+fn draw_findings(
+    root: &super::Area,
+    chart: &super::Chart2d,
+    m: &LocalisationMap,
+    top: f64,
+) -> Result<(), ChartError> {
+    let mut rings: Vec<(usize, i32)> = Vec::new();
+    for (i, f) in m.findings.iter().enumerate() {
+        for &k in &f.nodes {
+            let Some(n) = m.nodes.get(k) else { continue };
+            let before = rings.iter().filter(|r| r.0 == k).count() as i32;
+            let r = node_radius(n, top) + 6 + 6 * before;
+            rings.push((k, r));
+            let c = chart.backend_coord(&(n.x, n.y));
+            root.draw(&Circle::new(c, r, finding_color(i).stroke_width(3)))?;
+        }
+    }
+    Ok(())
+}
+
+/// Labels of the best nodes, placed where they overlap nothing.
+fn draw_labels(
+    root: &super::Area,
+    chart: &super::Chart2d,
+    m: &LocalisationMap,
+    top: f64,
+    scored: &[&MapNode],
+) -> Result<(), ChartError> {
+    let px = |n: &MapNode| chart.backend_coord(&(n.x, n.y));
+    let (pxr, pyr) = chart.plotting_area().get_pixel_range();
+    let bounds = (
+        pxr.start as f64,
+        pyr.start as f64,
+        pxr.end as f64,
+        pyr.end as f64,
+    );
+    let mut taken: Vec<Rect> = Vec::new();
+    for n in &m.nodes {
+        let (x, y) = px(n);
+        let (x, y) = (x as f64, y as f64);
+        let r = node_radius(n, top).max(4) as f64;
+        taken.push((x - r, y - r, x + r, y + r));
+        if n.measured {
+            taken.push((x - 6.0, y - r - 11.0, x + 6.0, y - r));
+        }
+        if n.fixed {
+            taken.push((x - 11.0, y + r, x + 11.0, y + r + 8.0));
+        }
+    }
+    for n in scored.iter().rev().take(m.labelled) {
+        let s = n.score.unwrap_or(0.0);
+        let text = format!("node {}: {} %", n.id, fmt_fixed(100.0 * s, 0));
+        let w = text_width(&text, LABEL_PX) + 4.0;
+        let h = LABEL_PX + 4.0;
+        let (x, y) = px(n);
+        let r = radius(s, top) as f64 + 4.0;
+        let cands = label_candidates((x as f64, y as f64), r, (w, h));
+        let inside =
+            |b: Rect| b.0 >= bounds.0 && b.1 >= bounds.1 && b.2 <= bounds.2 && b.3 <= bounds.3;
+        let pick = cands
+            .iter()
+            .copied()
+            .find(|&b| inside(b) && !taken.iter().any(|&o| overlaps(b, o)))
+            .or_else(|| cands.iter().copied().find(|&b| inside(b)));
+        let Some(b) = pick else { continue };
+        taken.push(b);
+        root.draw(&Rectangle::new(
+            [
+                (b.0.round() as i32, b.1.round() as i32),
+                (b.2.round() as i32, b.3.round() as i32),
+            ],
+            WHITE.mix(0.85).filled(),
+        ))?;
+        root.draw_text(
+            &text,
+            &font(LABEL_PX).pos(Pos::new(HPos::Left, VPos::Center)),
+            (
+                (b.0 + 2.0).round() as i32,
+                ((b.1 + b.3) / 2.0).round() as i32,
+            ),
+        )?;
+    }
+    Ok(())
+}
+
+/// Candidate label boxes around a disc at (x, y) of radius r: above, below,
+/// right, left, diagonals, then further away.
+fn label_candidates((x, y): (f64, f64), r: f64, (w, h): (f64, f64)) -> Vec<Rect> {
+    let mut cands: Vec<(f64, f64)> = Vec::new();
+    for k in [1.0, 2.2, 3.4] {
+        let d = r * k;
+        cands.extend([
+            (x - w / 2.0, y - d - h - 10.0),
+            (x - w / 2.0, y + d),
+            (x + d, y - h / 2.0),
+            (x - d - w, y - h / 2.0),
+            (x + d * 0.7, y - d * 0.7 - h),
+            (x - d * 0.7 - w, y - d * 0.7 - h),
+            (x + d * 0.7, y + d * 0.7),
+            (x - d * 0.7 - w, y + d * 0.7),
+        ]);
+    }
+    cands
+        .into_iter()
+        .map(|(l, t)| (l, t, l + w, t + h))
+        .collect()
 }
 
 /// The colour scale: a vertical bar with ticks in %, its description beside.
@@ -415,6 +488,10 @@ mod tests {
             nodes,
             lines: (0..6).map(|i| (i, i + 1)).collect(),
             labelled: 3,
+            findings: vec![MapFinding {
+                label: "support-flexibility at node 1 (ry)".into(),
+                nodes: vec![0],
+            }],
         }
     }
 
@@ -435,6 +512,24 @@ mod tests {
         ] {
             assert!(a.contains(t), "lacks {t}");
         }
+    }
+
+    #[test]
+    fn accepted_findings_are_ringed_and_named() {
+        let mut m = sample();
+        m.findings.push(MapFinding {
+            label: "sensor-mass at the 2 measured nodes".into(),
+            nodes: vec![0, 1, 99],
+        });
+        let a = render(&m).unwrap();
+        assert_svg(&a);
+        assert!(a.contains("accepted: support-flexibility at node 1 (ry)"));
+        assert!(a.contains("accepted: sensor-mass at the 2 measured nodes"));
+        // Two rings at node 0 (one per finding), one at node 1.
+        assert_eq!(
+            a.matches("stroke=\"#005AC8\"").count() + a.matches("stroke=\"#008C46\"").count(),
+            3 + 2
+        );
     }
 
     #[test]

@@ -279,7 +279,7 @@ fn draw_color_bar(root: &Area, x: i32, y0: i32, h: i32) -> Result<(), ChartError
         )?;
     }
     root.draw_text(
-        "MAC (dimensionless)",
+        "MAC of the ODS (dimensionless)",
         &font(13.0)
             .transform(FontTransform::Rotate270)
             .pos(Pos::new(HPos::Center, VPos::Top)),
@@ -338,7 +338,7 @@ mod tests {
             "MAC: test deflection shapes vs FE modes",
             "test resonance (Hz)",
             "FE mode (Hz)",
-            "MAC (dimensionless)",
+            "MAC of the ODS (dimensionless)",
             "initial model",
             "updated model",
             "0.95",

@@ -18,10 +18,10 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-pub use convergence::ConvergenceChart;
+pub use convergence::{ConvergenceChart, StageMark};
 pub use frequencies::{FrequencyChart, ModeFrequencies};
 pub use frf_overlay::{FrfChannel, FrfOverlay, ResonanceMark};
-pub use localisation::{LocalisationMap, MapNode};
+pub use localisation::{LocalisationMap, MapFinding, MapNode};
 pub use mac::{MacChart, MacPanel};
 pub use sfdac::SfdacChart;
 
@@ -694,6 +694,37 @@ pub(crate) fn tick_label(range: (f64, f64), n: usize) -> impl Fn(&f64) -> String
     move |v: &f64| fmt_fixed(*v, d)
 }
 
+/// Ticks of a log axis over [lo, hi] (both > 0): 1, 2, 5 × 10ᵏ, or
+/// 1, 2, 3, 5, 7 × 10ᵏ when that gives fewer than four.
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    if !(lo > 0.0 && hi > lo && hi.is_finite()) {
+        return Vec::new();
+    }
+    let ticks = |mantissas: &[f64]| -> Vec<f64> {
+        let (k0, k1) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
+        (k0..=k1)
+            .flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(|t| *t >= lo * (1.0 - 1e-12) && *t <= hi * (1.0 + 1e-12))
+            .collect()
+    };
+    let t = ticks(&[1.0, 2.0, 5.0]);
+    if t.len() >= 4 {
+        t
+    } else {
+        ticks(&[1.0, 2.0, 3.0, 5.0, 7.0])
+    }
+}
+
+/// A log-axis tick label: "200", "5", "0.5", "0.02".
+pub(crate) fn log_tick_label(t: f64) -> String {
+    if t >= 1.0 {
+        format!("{}", t.round() as i64)
+    } else {
+        let d = (-t.log10()).ceil().max(1.0) as usize;
+        fmt_fixed(t, d)
+    }
+}
+
 /// `10ⁿ` in superscript digits.
 pub(crate) fn pow10_label(exp: i32) -> String {
     const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
@@ -803,6 +834,14 @@ mod tests {
         assert_eq!(fmt_fixed(f64::NAN, 2), "–");
         assert_eq!(pow10_label(-6), "10⁻⁶");
         assert_eq!(pow10_label(3), "10³");
+        assert_eq!(
+            log_ticks(2.0, 200.0),
+            vec![2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0]
+        );
+        assert_eq!(log_ticks(30.0, 80.0), vec![30.0, 50.0, 70.0]);
+        assert!(log_ticks(0.0, 1.0).is_empty());
+        assert_eq!(log_tick_label(0.05), "0.05");
+        assert_eq!(log_tick_label(200.0), "200");
         let (a, b) = padded_range(0.0, 0.0, 0.05);
         assert!(a < b);
         let (a, b) = padded_range(f64::NAN, 1.0, 0.05);

@@ -3,28 +3,26 @@
 //! model as given, after the parameter update and diagnosed, and a
 //! self-contained `report.html` with the content of `report.md`.
 //!
-//! The model FRFs are the ones the diagnosis scored ([`FitQuality::frfs`]:
+//! The model FRFs are the ones the diagnosis scored ([`crate::diagnosis::FitQuality::frfs`]:
 //! its own predictor on the test data as it prepared them, same lines,
 //! channels, excitation and FRF kind, with the damping fitted to the test).
-
-use std::fmt::Write as _;
 
 use frfup_parsers::deck::{Analysis, Deck};
 use num_complex::Complex64;
 
 use super::charts::frf_overlay::{self, FrfChannel, FrfOverlay};
-use super::charts::localisation::{self, LocalisationMap, MapNode};
+use super::charts::localisation::{self, LocalisationMap, MapFinding, MapNode};
 use super::charts::ChartError;
 use super::data::{pretty_units, resonance_marks};
-use super::html::{chart, esc, frf_charts};
 use crate::diagnosis::data::TestData;
-use crate::diagnosis::{describe_damping, sig, Diagnosis, FitQuality};
+use crate::diagnosis::{describe_damping, Diagnosis};
 use crate::testdata::MeasuredFrfs;
-use output::finding_values;
 
 pub mod output;
+pub mod page;
 
 pub use output::{write_outputs, write_outputs_with_notes};
+pub use page::{diagnosis_html, Embedded};
 
 /// Names of the three models, in the order of the fit table.
 pub const MODEL_NAMES: [&str; 3] = ["as given", "parameters updated", "diagnosed"];
@@ -150,17 +148,28 @@ pub fn localisation_map(d: &Diagnosis, deck: &Deck, deck_name: &str) -> Localisa
         .iter()
         .filter_map(|b| Some((index(b.nodes[0])?, index(b.nodes[1])?)))
         .collect();
+    let file = std::path::Path::new(deck_name)
+        .file_name()
+        .map_or(deck_name.into(), |f| f.to_string_lossy());
     let subtitle = if d.localisation.is_empty() {
         format!(
-            "{deck_name}, {}–{} plane: no node scored (the search ran no localisation round)",
+            "{file}, {}–{} plane; no node scored (no localisation round ran)",
             names[ax], names[ay]
         )
     } else {
         format!(
-            "{deck_name}, {}–{} plane: share of the remaining FRF error that a small change at each node removes",
+            "{file}, {}–{} plane; discs: share of the FRF error a small change at the node removes",
             names[ax], names[ay]
         )
     };
+    let findings = d
+        .findings
+        .iter()
+        .map(|f| MapFinding {
+            label: f.label.clone(),
+            nodes: f.nodes.iter().filter_map(|&id| index(id)).collect(),
+        })
+        .collect();
     LocalisationMap {
         title: "Where the model disagrees with the test".into(),
         subtitle: Some(subtitle),
@@ -169,6 +178,7 @@ pub fn localisation_map(d: &Diagnosis, deck: &Deck, deck_name: &str) -> Localisa
         nodes,
         lines,
         labelled: 5,
+        findings,
     }
 }
 
@@ -257,257 +267,6 @@ pub fn overlay(
         .collect();
     let note = (!notes.is_empty()).then(|| notes.join("; "));
     (o, note)
-}
-
-// ---------------------------------------------------------------------------
-// The page
-
-/// The rendered charts embedded in the page.
-pub struct Embedded {
-    pub localisation: String,
-    pub frf_sheet: String,
-    /// (channel label, SVG).
-    pub frf_channels: Vec<(String, String)>,
-    /// Why some model FRFs are missing, if they are.
-    pub frf_note: Option<String>,
-}
-
-const CSS: &str = "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:2em auto;max-width:1300px;padding:0 1em;color:#222;line-height:1.4}\
-h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
-table{border-collapse:collapse;margin:.6em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;text-align:right}\
-th{background:#f2f2f2}td.l,th.l{text-align:left}\
-.chart svg{max-width:100%;height:auto;border:1px solid #eee}.summary{background:#f7f7f7;padding:.6em 1em;border-left:4px solid #0064c8}\
-.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em}li{margin:.2em 0}";
-
-fn num(v: f64, d: usize) -> String {
-    super::charts::fmt_fixed(v, d)
-}
-
-fn quality_rows(d: &Diagnosis) -> [(&'static str, &FitQuality); 3] {
-    [
-        (MODEL_NAMES[0], &d.initial),
-        (MODEL_NAMES[1], &d.updated),
-        (MODEL_NAMES[2], &d.diagnosed),
-    ]
-}
-
-/// `report.html`: the content of `report.md` with the charts inline.
-pub fn diagnosis_html(
-    d: &Diagnosis,
-    deck_name: &str,
-    test_name: &str,
-    charts: &Embedded,
-    files: &[String],
-) -> String {
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>Model diagnosis</title>\n<style>{CSS}</style>\n</head>\n<body>\n<h1>Model diagnosis</h1>\n"
-    );
-    let _ = writeln!(
-        s,
-        "<p class=\"muted\">Model <code>{}</code> against test <code>{}</code> ({} channels{}).</p>",
-        esc(deck_name),
-        esc(test_name),
-        d.channels.len(),
-        if d.ignored_channels.is_empty() {
-            String::new()
-        } else {
-            format!(
-                "; not on a free DOF of the model, ignored: {}",
-                esc(&d.ignored_channels.join(", "))
-            )
-        }
-    );
-    // Summary.
-    let found: Vec<String> = d
-        .findings
-        .iter()
-        .map(|f| format!("<b>{}</b> ({})", esc(f.physics.name()), esc(&f.label)))
-        .collect();
-    let _ = writeln!(
-        s,
-        "<p class=\"summary\">{}<br>FRF error (1 = noise level): {} as given → {} after updating → <b>{}</b> diagnosed. {}</p>",
-        if found.is_empty() {
-            "Nothing is missing: the deck's own parameters explain the test to the noise level.".to_string()
-        } else {
-            format!("Found: {}.", found.join("; "))
-        },
-        num(d.initial.frf_error, 2),
-        num(d.updated.frf_error, 2),
-        num(d.diagnosed.frf_error, 2),
-        if d.at_noise_level {
-            "The diagnosed model explains the test to the noise level."
-        } else {
-            "Some disagreement remains above the noise level."
-        }
-    );
-    let links: Vec<String> = [
-        ("disagreed", "what disagreed"),
-        ("where", "where"),
-        ("physics", "which physics"),
-        ("improved", "improvement"),
-        ("rejected", "rejected hypotheses"),
-        ("files", "files"),
-    ]
-    .iter()
-    .map(|(id, t)| format!("<a href=\"#{id}\">{t}</a>"))
-    .collect();
-    let _ = writeln!(s, "<p>{}</p>", links.join(" · "));
-
-    // What disagreed.
-    let _ = writeln!(s, "<h2 id=\"disagreed\">What disagreed</h2>");
-    s.push_str("<table>\n<tr><th class=\"l\">model</th><th>SFDAC mean</th><th>SFDAC min</th><th>mean freq. error (%)</th><th>FRF error (1 = noise)</th><th>RMS log-magnitude error</th><th class=\"l\">damping used</th></tr>\n");
-    for (name, q) in quality_rows(d) {
-        let _ = writeln!(
-            s,
-            "<tr><td class=\"l\">{name}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>",
-            num(q.sfdac_mean, 4),
-            num(q.sfdac_min, 4),
-            num(q.freq_error_mean_pct, 3),
-            num(q.frf_error, 2),
-            num(q.frf_log_rms, 3),
-            esc(&q.damping)
-        );
-    }
-    s.push_str("</table>\n");
-    if let Some(n) = &d.update_note {
-        let _ = writeln!(s, "<p>Updating the deck's own parameters: {}.</p>", esc(n));
-    }
-    if !d.updated_parameters.is_empty() {
-        let vals: Vec<String> = d
-            .updated_parameters
-            .iter()
-            .map(|(k, v)| format!("<code>{}</code> = {}", esc(k), esc(&sig(*v))))
-            .collect();
-        let _ = writeln!(
-            s,
-            "<p>Updated parameter values (relative changes): {}.</p>",
-            vals.join(", ")
-        );
-    }
-    let _ = writeln!(
-        s,
-        "<p>Measured FRFs against the three models. The model FRFs of the deck as given and after updating use the damping fitted to the test (the fit table's); the diagnosed model uses the damping written in <code>diagnosed.deck</code>.</p>"
-    );
-    if let Some(n) = &charts.frf_note {
-        let _ = writeln!(s, "<p class=\"muted\">{}</p>", esc(n));
-    }
-    frf_charts(&mut s, &charts.frf_sheet, &charts.frf_channels);
-
-    // Where.
-    let _ = writeln!(s, "<h2 id=\"where\">Where</h2>");
-    if d.localisation.is_empty() {
-        s.push_str("<p>No node was scored: the search ran no localisation round (the model with its damping refitted was already at the noise level, or the evaluation budget was spent).</p>\n");
-    } else {
-        s.push_str("<p>Nodes where a small change of the model would remove most of the remaining FRF error (share of the error a probe removes, best candidate at the node):</p>\n<ul>\n");
-        for (n, sc, l) in d.localisation.iter().take(6) {
-            let _ = writeln!(
-                s,
-                "<li>node {n}: {} % ({})</li>",
-                num(100.0 * sc, 0),
-                esc(l)
-            );
-        }
-        s.push_str("</ul>\n");
-    }
-    chart(&mut s, &charts.localisation);
-
-    // Which physics.
-    let _ = writeln!(s, "<h2 id=\"physics\">Which physics explains it</h2>");
-    if d.findings.is_empty() {
-        s.push_str("<p>Nothing is missing: the deck's own parameters explain the test to the noise level.</p>\n");
-    } else {
-        s.push_str("<table>\n<tr><th class=\"l\">physics</th><th class=\"l\">hypothesis (where)</th><th class=\"l\">fitted values ± 1 standard deviation</th><th>held-out error before</th><th>after</th></tr>\n");
-        for f in &d.findings {
-            let vals: Vec<String> = finding_values(f).iter().map(|v| esc(v)).collect();
-            let _ = writeln!(
-                s,
-                "<tr><td class=\"l\"><b>{}</b></td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td></tr>",
-                esc(f.physics.name()),
-                esc(&f.label),
-                if vals.is_empty() {
-                    "(no parameter)".to_string()
-                } else {
-                    vals.join("<br>")
-                },
-                esc(&sig(f.validation_error_before)),
-                esc(&sig(f.validation_error_after))
-            );
-        }
-        s.push_str("</table>\n");
-        for f in d
-            .findings
-            .iter()
-            .filter(|f| !f.indistinguishable_from.is_empty())
-        {
-            let _ = writeln!(
-                s,
-                "<p>The data cannot tell <b>{}</b> apart from: {}.</p>",
-                esc(&f.label),
-                esc(&f.indistinguishable_from.join("; "))
-            );
-        }
-    }
-
-    // Improvement.
-    let _ = writeln!(s, "<h2 id=\"improved\">How much the fit improved</h2>");
-    let _ = writeln!(
-        s,
-        "<p>FRF error (mean squared weighted log error over all lines and channels above the noise floor, 1 = noise level): {} as given, {} after updating, {} diagnosed. {}</p>",
-        num(d.initial.frf_error, 2),
-        num(d.updated.frf_error, 2),
-        num(d.diagnosed.frf_error, 2),
-        if d.at_noise_level {
-            "The diagnosed model explains the test to the noise level."
-        } else {
-            "Some disagreement remains above the noise level: physics outside the dictionary, or effects too weak to separate."
-        }
-    );
-    let _ = writeln!(
-        s,
-        "<p>SFDAC mean {} → {} → {}; mean frequency error {} % → {} % → {} %.</p>",
-        num(d.initial.sfdac_mean, 4),
-        num(d.updated.sfdac_mean, 4),
-        num(d.diagnosed.sfdac_mean, 4),
-        num(d.initial.freq_error_mean_pct, 3),
-        num(d.updated.freq_error_mean_pct, 3),
-        num(d.diagnosed.freq_error_mean_pct, 3)
-    );
-
-    // Rejected.
-    let _ = writeln!(
-        s,
-        "<h2 id=\"rejected\">Hypotheses tried and not accepted</h2>"
-    );
-    if d.rejected.is_empty() {
-        s.push_str("<p>None.</p>\n");
-    } else {
-        s.push_str("<table>\n<tr><th>round</th><th class=\"l\">hypothesis</th><th>value</th><th>held-out error</th><th class=\"l\">why not accepted</th></tr>\n");
-        for r in &d.rejected {
-            let _ = writeln!(
-                s,
-                "<tr><td>{}</td><td class=\"l\">{}</td><td>{}</td><td>{}</td><td class=\"l\">{}</td></tr>",
-                r.round,
-                esc(&r.label),
-                r.value.map(|v| esc(&sig(v))).unwrap_or_else(|| "–".into()),
-                esc(&sig(r.validation_error)),
-                esc(&r.reason)
-            );
-        }
-        s.push_str("</table>\n");
-    }
-    let _ = writeln!(
-        s,
-        "<p class=\"muted\">{} model evaluations. The diagnosed model is in <code>diagnosed.deck</code>.</p>",
-        d.model_evaluations
-    );
-    let _ = writeln!(s, "<h2 id=\"files\">Files</h2>\n<ul>");
-    for f in files {
-        let _ = writeln!(s, "<li><a href=\"{0}\">{0}</a></li>", esc(f));
-    }
-    s.push_str("</ul>\n</body>\n</html>\n");
-    s
 }
 
 #[cfg(test)]

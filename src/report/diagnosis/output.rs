@@ -129,6 +129,8 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
         "Model `{deck_name}` against test `{test_name}` ({} channels).\n\n",
         d.channels.len()
     ));
+    let (_, mark, word, detail) = super::page::verdict(d);
+    s.push_str(&format!("> **{mark} Status: {word}**: {detail}\n\n"));
     s.push_str("## What disagreed\n\n");
     s.push_str("| model | SFDAC mean | SFDAC min | mean freq. error (%) | FRF error (1 = noise) | damping used |\n|---|---|---|---|---|---|\n");
     for (name, q) in [
@@ -154,9 +156,8 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
     }
     s.push_str("\n## Which physics explains it\n\n");
     if d.findings.is_empty() {
-        s.push_str(
-            "Nothing is missing: the deck's own parameters explain the test to the noise level.\n",
-        );
+        s.push_str(&crate::diagnosis::verdict::Verdict::of(d).sentence());
+        s.push('\n');
     }
     for f in &d.findings {
         let vals = finding_values(f);
@@ -184,11 +185,7 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
         d.initial.frf_error,
         d.updated.frf_error,
         d.diagnosed.frf_error,
-        if d.at_noise_level {
-            "The diagnosed model explains the test to the noise level."
-        } else {
-            "Some disagreement remains above the noise level: physics outside the dictionary, or effects too weak to separate."
-        }
+        crate::diagnosis::verdict::Verdict::of(d).sentence()
     ));
     if !d.rejected.is_empty() {
         s.push_str("\n## Hypotheses tried and not accepted\n\n");
