@@ -13,16 +13,24 @@ use super::data::ReportData;
 use crate::updating::frequencies::FrequencySource;
 use crate::updating::UpdateResult;
 
+/// A finite number by `fmt`, −0 written as 0; empty otherwise.
 fn num(v: f64, fmt: fn(f64) -> String) -> String {
     if v.is_finite() {
-        fmt(v)
+        fmt(v + 0.0)
     } else {
         String::new()
     }
 }
 
+/// Seven significant digits in `e` notation (`1.234568e-5`); zero is `0`.
 fn e6(v: f64) -> String {
-    num(v, |x| format!("{x:.6e}"))
+    num(v, |x| {
+        if x == 0.0 {
+            "0".into()
+        } else {
+            format!("{x:.6e}")
+        }
+    })
 }
 
 fn f6(v: f64) -> String {
@@ -200,6 +208,10 @@ mod tests {
             "\"a,b\",\"say \"\"x\"\"\",\n1,2,3\n"
         );
         assert_eq!(e6(f64::NAN), "");
+        assert_eq!(e6(-0.0), "0");
+        assert_eq!(e6(0.0), "0");
+        assert_eq!(e6(-1.5e-5), "-1.500000e-5");
+        assert_eq!(f6(-0.0), "0.000000");
         assert_eq!(f6(1.5), "1.500000");
     }
 }

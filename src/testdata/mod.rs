@@ -210,7 +210,8 @@ pub fn i_omega_power(omega: f64, power: i32) -> c64 {
     match power {
         0 => c64::new(1.0, 0.0),
         1 => c64::new(0.0, omega),
-        2 => c64::new(-omega * omega, 0.0),
+        // 0 − ω², not −ω²: at ω = 0 the factor is +0, so a 0 Hz line reads 0, never −0.
+        2 => c64::new(0.0 - omega * omega, 0.0),
         -1 => c64::new(0.0, -1.0 / omega),
         -2 => c64::new(-1.0 / (omega * omega), 0.0),
         _ => unreachable!("FRF kinds differ by at most two orders"),
