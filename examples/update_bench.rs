@@ -15,9 +15,9 @@ use std::path::Path;
 use std::time::Instant;
 
 use faer::c64;
-use frfup::model::{self, ParameterValues, SparseMatrix};
+use frfup::model::{self, FeModel, ParameterValues, SparseMatrix};
 use frfup::parsers::deck::{parse, Deck, IdRange, Param, Pos, Quantity, Sensor};
-use frfup::solvers::eigen::{lowest_modes, EigenOptions};
+use frfup::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use frfup::solvers::frf::modal_receptance;
 use frfup::testdata::{self, Channel, FrfKind, MeasuredFrfs};
 use frfup::updating::measured::MeasuredDofs;
@@ -144,26 +144,7 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
     let t0 = Instant::now();
     let mut deck = read_deck(deck_path);
     let parse_s = t0.elapsed().as_secs_f64();
-    // Parameters: Iy on contiguous groups of beam ids.
-    let ids: Vec<u32> = deck.beams.iter().map(|b| b.id).collect();
-    let per = ids.len().div_ceil(n_params);
-    let pos = Pos::new(1, 1);
-    deck.params.clear();
-    for (g, chunk) in ids.chunks(per).enumerate() {
-        deck.params.push(Param {
-            name: format!("g{g:02}"),
-            quantity: Quantity::Iy,
-            ids: vec![IdRange {
-                first: chunk[0],
-                last: *chunk.last().unwrap(),
-                pos,
-            }],
-            min: None,
-            max: None,
-            sd: None,
-            pos,
-        });
-    }
+    group_iy_parameters(&mut deck, n_params);
     deck.sensors = Vec::<Sensor>::new();
     // Truth: ±10 % pattern.
     let truth: ParameterValues = deck
@@ -175,25 +156,7 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
     let t = Instant::now();
     let fe = model::build(&deck, &truth).expect("build truth");
     let build_s = t.elapsed().as_secs_f64();
-    // Sensors: z of free nodes spread over the model.
-    let z_nodes: Vec<u32> = fe
-        .dofs
-        .equations
-        .iter()
-        .filter(|(_, d)| *d == model::Dof::Z)
-        .map(|(n, _)| *n)
-        .collect();
-    let step = (z_nodes.len() / n_sensors).max(1);
-    let sensors: Vec<u32> = z_nodes
-        .iter()
-        .step_by(step)
-        .take(n_sensors)
-        .copied()
-        .collect();
-    let eqs: Vec<usize> = sensors
-        .iter()
-        .map(|&n| fe.measured_dof(n, 3).unwrap().0)
-        .collect();
+    let (sensors, eqs) = spread_z_sensors(&fe, n_sensors);
     let input = eqs[eqs.len() / 3];
     let t = Instant::now();
     let modes = lowest_modes(
@@ -210,35 +173,7 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
     let f = modes.frequencies_hz();
     let f_max = 1.15 * f[20];
     let lines: Vec<f64> = (0..2000).map(|i| f_max * i as f64 / 1999.0).collect();
-    let omegas: Vec<f64> = lines
-        .iter()
-        .map(|f| 2.0 * std::f64::consts::PI * f)
-        .collect();
-    let h = modal_receptance(
-        &modes,
-        model::Damping::Modal { zeta: 0.001 },
-        &omegas,
-        input,
-        &eqs,
-    );
-    let channels = sensors
-        .iter()
-        .enumerate()
-        .map(|(i, &n)| Channel {
-            response_node: n as i64,
-            response_direction: 3,
-            reference_node: sensors[eqs.len() / 3] as i64,
-            reference_direction: 3,
-            values: (0..lines.len())
-                .map(|l| h[(i, l)] * c64::new(-omegas[l] * omegas[l], 0.0))
-                .collect(),
-        })
-        .collect();
-    let test = MeasuredFrfs {
-        frequencies_hz: lines,
-        kind: FrfKind::Accelerance,
-        channels,
-    };
+    let test = accelerance_test(&modes, lines, &sensors, &eqs, input);
     // Updating frequencies at ±5 % of the first 10 truth resonances: the
     // square plate's repeated modes merge under peak picking (3 found), and
     // the benchmark is about the cost of an iteration with R = 10 (N_md = 20).
@@ -276,6 +211,91 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
         "sfdac_mean": r.iterations.iter().map(|i| i.sfdac.mean).collect::<Vec<_>>(),
     });
     println!("{}", serde_json::to_string(&out).unwrap());
+}
+
+/// Parameters: Iy on `n_params` contiguous groups of beam ids.
+fn group_iy_parameters(deck: &mut Deck, n_params: usize) {
+    let ids: Vec<u32> = deck.beams.iter().map(|b| b.id).collect();
+    let per = ids.len().div_ceil(n_params);
+    let pos = Pos::new(1, 1);
+    deck.params.clear();
+    for (g, chunk) in ids.chunks(per).enumerate() {
+        deck.params.push(Param {
+            name: format!("g{g:02}"),
+            quantity: Quantity::Iy,
+            ids: vec![IdRange {
+                first: chunk[0],
+                last: *chunk.last().unwrap(),
+                pos,
+            }],
+            min: None,
+            max: None,
+            sd: None,
+            pos,
+        });
+    }
+}
+
+/// Sensors: z of free nodes spread over the model; their node ids and equations.
+fn spread_z_sensors(fe: &FeModel, n_sensors: usize) -> (Vec<u32>, Vec<usize>) {
+    let z_nodes: Vec<u32> = fe
+        .dofs
+        .equations
+        .iter()
+        .filter(|(_, d)| *d == model::Dof::Z)
+        .map(|(n, _)| *n)
+        .collect();
+    let step = (z_nodes.len() / n_sensors).max(1);
+    let sensors: Vec<u32> = z_nodes
+        .iter()
+        .step_by(step)
+        .take(n_sensors)
+        .copied()
+        .collect();
+    let eqs: Vec<usize> = sensors
+        .iter()
+        .map(|&n| fe.measured_dof(n, 3).unwrap().0)
+        .collect();
+    (sensors, eqs)
+}
+
+/// Accelerance of the truth modes (ζ = 0.1 %) at the sensors for a force at `input`.
+fn accelerance_test(
+    modes: &Modes,
+    lines: Vec<f64>,
+    sensors: &[u32],
+    eqs: &[usize],
+    input: usize,
+) -> MeasuredFrfs {
+    let omegas: Vec<f64> = lines
+        .iter()
+        .map(|f| 2.0 * std::f64::consts::PI * f)
+        .collect();
+    let h = modal_receptance(
+        modes,
+        model::Damping::Modal { zeta: 0.001 },
+        &omegas,
+        input,
+        eqs,
+    );
+    let channels = sensors
+        .iter()
+        .enumerate()
+        .map(|(i, &n)| Channel {
+            response_node: n as i64,
+            response_direction: 3,
+            reference_node: sensors[eqs.len() / 3] as i64,
+            reference_direction: 3,
+            values: (0..lines.len())
+                .map(|l| h[(i, l)] * c64::new(-omegas[l] * omegas[l], 0.0))
+                .collect(),
+        })
+        .collect();
+    MeasuredFrfs {
+        frequencies_hz: lines,
+        kind: FrfKind::Accelerance,
+        channels,
+    }
 }
 
 fn write_sparse(dir: &Path, name: &str, s: &SparseMatrix) {

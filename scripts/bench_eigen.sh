@@ -12,7 +12,7 @@
 #
 # Usage: scripts/bench_eigen.sh [WORKDIR]   (default /tmp/frfup-bench)
 # Env: LATTICES (default "plate cube"), PEER_SHIFTS (default "initial final"),
-#      MID (default 1; 0 skips (d) and (e)).
+#      MID (default 1; 0 skips (d), (e) and (f)).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 work="${1:-/tmp/frfup-bench}"
@@ -72,3 +72,16 @@ print(f"# {k['deck']} ({k['n']} DOF), {k['count']} modes: frfup {k['eigen_s']:.2
       f"SciPy eigsh {s['scipy_s']:.2f} s ({s['scipy_s'] / k['eigen_s']:.1f}x); "
       f"max rel. diff in ω² vs SciPy {s['max_rel_diff_omega2_vs_frfup']:.1e}")
 PY
+echo "# (f) Krylov drivers on the same operator: block Lanczos (ours) vs faer partial_self_adjoint_eigen"
+for spec in "mid 10" "mid 40" "mid30 300" "plate 50"; do
+  set -- $spec
+  [ -f "$work/$1.deck" ] || continue
+  line=$("$bin" "$work/$1.deck" --count "$2" --faer | tail -1)
+  python3 - "$line" "$1" <<'PY'
+import json, sys
+c = json.loads(sys.argv[1])
+print(f"# {sys.argv[2]} ({c['n']} DOF), {c['count']} modes: ours {c['ours_s']:.3f} s ({c['ours_applications']} applications), "
+      f"faer {c['faer_s']:.3f} s ({c['faer_applications']} applications, {c['faer_converged']} converged): "
+      f"{c['faer_s'] / c['ours_s']:.1f}x; max rel. diff in ω² {c['max_rel_diff_omega2']:.1e}")
+PY
+done

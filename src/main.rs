@@ -10,8 +10,11 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use frfup::commands::progress::{Progress, StepReporter};
 use frfup::commands::{self, convert};
+use frfup::tasks::update::Thresholds;
 use frfup::tasks::{self, update, CommandError};
 use frfup::testdata::FrfKind;
+use frfup::updating::options::finite;
+use frfup::updating::{UpdateMethod, UpdateSettings};
 use std::sync::Mutex;
 
 #[derive(Parser)]
@@ -37,147 +40,170 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run the built-in GARTEUR-like case end to end (read, update, report).
-    Demo {
-        /// Output folder.
-        #[arg(long, default_value = "frfup-demo")]
-        out: PathBuf,
-    },
+    Demo(DemoArgs),
     /// List the datasets of a UFF file, one line each.
-    Info {
-        file: PathBuf,
-        /// Print JSON instead of a table.
-        #[arg(long)]
-        json: bool,
-    },
+    Info(InfoArgs),
     /// Convert UFF 58 records: to CSV or UFF, between FRF kinds, to the paper's signed real FRF.
-    Convert {
-        input: PathBuf,
-        /// Output file: .csv, .uff or .unv.
-        output: PathBuf,
-        /// Convert FRFs to this kind.
-        #[arg(long, value_enum)]
-        to: Option<ToKind>,
-        /// Records to keep: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
-        #[arg(long)]
-        channels: Option<String>,
-        /// Write 58b binary records (UFF output only).
-        #[arg(long)]
-        binary: bool,
-    },
+    Convert(ConvertArgs),
     /// Natural frequencies and generalised masses of a deck's lowest modes.
-    Modes {
-        deck: PathBuf,
-        /// How many of the lowest modes.
-        #[arg(long, default_value_t = 20, value_parser = at_least_one)]
-        count: usize,
-        /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
-        #[arg(long)]
-        csv: Option<PathBuf>,
-        /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
-        #[arg(long = "set", value_name = "NAME=VALUE")]
-        set: Vec<String>,
-    },
+    Modes(ModesArgs),
     /// Write a measured-style campaign (dataset 58 FRFs) computed from a deck.
-    Simulate {
-        deck: PathBuf,
-        /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
-        /// Required unless --response is given.
-        #[arg(long, allow_hyphen_values = true)]
-        input: Option<String>,
-        /// Roving hammer: the fixed sensor NODE:DIR; the hammer hits each --sensors
-        /// point, so record i has this response and reference = hit point i (one
-        /// row of the FRF matrix, by reciprocity).
-        #[arg(long, allow_hyphen_values = true)]
-        response: Option<String>,
-        /// Frequency lines F0:F1:N (Hz).
-        #[arg(long, allow_hyphen_values = true)]
-        band: String,
-        /// Output UFF file.
-        #[arg(long)]
-        out: PathBuf,
-        /// FRF kind written.
-        #[arg(long, value_enum, default_value = "accelerance")]
-        output: OutputKind,
-        /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
-        #[arg(long, default_value = "all", allow_hyphen_values = true)]
-        sensors: String,
-        /// Complex Gaussian noise, as a fraction of each channel's RMS.
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
-        noise: f64,
-        /// Seed of the noise generator.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Parameter values NAME=P (relative change), e.g. a known defect.
-        #[arg(long = "set", value_name = "NAME=VALUE")]
-        set: Vec<String>,
-        /// Write 58b binary records.
-        #[arg(long)]
-        binary: bool,
-        /// Complex single precision (ordinate type 5) instead of double (6).
-        #[arg(long)]
-        single: bool,
-    },
+    Simulate(SimulateArgs),
     /// Update the deck's parameters from measured FRFs (the paper's method).
-    Update {
-        deck: PathBuf,
-        test: PathBuf,
-        /// Output folder: report.json, CSV tables, updated.deck, report.md.
-        #[arg(long)]
-        out: PathBuf,
-        #[command(flatten)]
-        args: UpdateArgs,
-        /// Exit with code 1 if the updated mean SFDAC is below X.
-        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-        fail_below_sfdac: Option<f64>,
-        /// Exit with code 1 if the updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
-        fail_above_freq_error: Option<f64>,
-    },
+    Update(UpdateArgs),
     /// Which physics the model lacks: update, localise, test hypotheses (diagnosis.json, diagnosed.deck, report.md).
-    Diagnose {
-        deck: PathBuf,
-        test: PathBuf,
-        /// Output folder.
-        #[arg(long)]
-        out: PathBuf,
-        /// Take the deck's parameters as they are (no update first).
-        #[arg(long)]
-        no_update: bool,
-        /// At most this many extensions.
-        #[arg(long, default_value_t = 4)]
-        max_findings: usize,
-        /// Options of the first step, the update of the deck's own parameters.
-        #[command(flatten)]
-        args: UpdateArgs,
-    },
+    Diagnose(DiagnoseArgs),
     /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
-    Batch {
-        campaign: PathBuf,
-        /// Output folder: one folder per case, summary.md/.csv/.json.
-        #[arg(long)]
-        out: PathBuf,
-        /// Cases run at once.
-        #[arg(long, default_value_t = 1, value_parser = at_least_one)]
-        jobs: usize,
-        /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
-        #[arg(long, value_name = "I/N")]
-        shard: Option<String>,
-        /// A case fails if its updated mean SFDAC is below X.
-        #[arg(long, value_name = "X", allow_negative_numbers = true, value_parser = finite)]
-        fail_below_sfdac: Option<f64>,
-        /// A case fails if its updated mean |df/f| (%) is above PCT.
-        #[arg(long, value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
-        fail_above_freq_error: Option<f64>,
-    },
+    Batch(BatchArgs),
 }
 
-/// A finite number (NaN or infinity as an option value is a typo, not a threshold).
-fn finite(s: &str) -> Result<f64, String> {
-    match s.trim().parse::<f64>() {
-        Ok(x) if x.is_finite() => Ok(x),
-        Ok(_) => Err("expected a finite number".into()),
-        Err(e) => Err(e.to_string()),
-    }
+/// The global flags as every command reads them.
+struct Global {
+    quiet: bool,
+    verbose: bool,
+    progress: Progress,
+}
+
+// `frfup demo`.
+#[derive(clap::Args)]
+struct DemoArgs {
+    /// Output folder.
+    #[arg(long, default_value = "frfup-demo")]
+    out: PathBuf,
+}
+
+// `frfup info`.
+#[derive(clap::Args)]
+struct InfoArgs {
+    file: PathBuf,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+// `frfup convert`.
+#[derive(clap::Args)]
+struct ConvertArgs {
+    input: PathBuf,
+    /// Output file: .csv, .uff or .unv.
+    output: PathBuf,
+    /// Convert FRFs to this kind.
+    #[arg(long, value_enum)]
+    to: Option<ToKind>,
+    /// Records to keep: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
+    #[arg(long)]
+    channels: Option<String>,
+    /// Write 58b binary records (UFF output only).
+    #[arg(long)]
+    binary: bool,
+}
+
+// `frfup modes`.
+#[derive(clap::Args)]
+struct ModesArgs {
+    deck: PathBuf,
+    /// How many of the lowest modes.
+    #[arg(long, default_value_t = 20, value_parser = at_least_one)]
+    count: usize,
+    /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+}
+
+// `frfup simulate`.
+#[derive(clap::Args)]
+struct SimulateArgs {
+    deck: PathBuf,
+    /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
+    /// Required unless --response is given.
+    #[arg(long, allow_hyphen_values = true)]
+    input: Option<String>,
+    /// Roving hammer: the fixed sensor NODE:DIR; the hammer hits each --sensors
+    /// point, so record i has this response and reference = hit point i (one
+    /// row of the FRF matrix, by reciprocity).
+    #[arg(long, allow_hyphen_values = true)]
+    response: Option<String>,
+    /// Frequency lines F0:F1:N (Hz).
+    #[arg(long, allow_hyphen_values = true)]
+    band: String,
+    /// Output UFF file.
+    #[arg(long)]
+    out: PathBuf,
+    /// FRF kind written.
+    #[arg(long, value_enum, default_value = "accelerance")]
+    output: OutputKind,
+    /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
+    #[arg(long, default_value = "all", allow_hyphen_values = true)]
+    sensors: String,
+    /// Complex Gaussian noise, as a fraction of each channel's RMS.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite)]
+    noise: f64,
+    /// Seed of the noise generator.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Parameter values NAME=P (relative change), e.g. a known defect.
+    #[arg(long = "set", value_name = "NAME=VALUE")]
+    set: Vec<String>,
+    /// Write 58b binary records.
+    #[arg(long)]
+    binary: bool,
+    /// Complex single precision (ordinate type 5) instead of double (6).
+    #[arg(long)]
+    single: bool,
+}
+
+// `frfup update`.
+#[derive(clap::Args)]
+struct UpdateArgs {
+    deck: PathBuf,
+    test: PathBuf,
+    /// Output folder: report.json, CSV tables, updated.deck, report.md.
+    #[arg(long)]
+    out: PathBuf,
+    #[command(flatten)]
+    settings: UpdateSettings,
+    #[command(flatten)]
+    thresholds: Thresholds,
+}
+
+// `frfup diagnose`.
+#[derive(clap::Args)]
+struct DiagnoseArgs {
+    deck: PathBuf,
+    test: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Take the deck's parameters as they are (no update first).
+    #[arg(long)]
+    no_update: bool,
+    /// At most this many extensions.
+    #[arg(long, default_value_t = 4)]
+    max_findings: usize,
+    /// Options of the first step, the update of the deck's own parameters
+    /// (`--method paper` unless given).
+    #[command(flatten)]
+    settings: UpdateSettings,
+}
+
+// `frfup batch`.
+#[derive(clap::Args)]
+struct BatchArgs {
+    campaign: PathBuf,
+    /// Output folder: one folder per case, summary.md/.csv/.json.
+    #[arg(long)]
+    out: PathBuf,
+    /// Cases run at once.
+    #[arg(long, default_value_t = 1, value_parser = at_least_one)]
+    jobs: usize,
+    /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
+    #[command(flatten)]
+    thresholds: Thresholds,
 }
 
 /// A count of at least 1.
@@ -190,133 +216,20 @@ fn at_least_one(s: &str) -> Result<usize, String> {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum Inverse {
-    /// Truncated SVD at rank N_md (§3.4).
-    Svd,
-    /// Small value added to the diagonal (§3.3).
-    Perturb,
-}
-
-/// Options shared by `update` and `diagnose`. Unset options take the
-/// values of the chosen `--method` (see `UpdateOptions::default` and
-/// `UpdateOptions::paper`).
-#[derive(clap::Args, Clone)]
-struct UpdateArgs {
-    /// Pipeline: `robust` (default: fitted resonances, frequencies first,
-    /// damped steps, then a full-band estimate with uncertainties) or
-    /// `paper` (Yan & Golinval's iteration exactly, with the paper's values).
-    #[arg(long, value_enum)]
-    method: Option<MethodArg>,
-    /// Modes N_md in the SEREP basis (default: min(N_ex, max(2R, R + 4))).
-    #[arg(long)]
-    modes: Option<usize>,
-    /// Measured resonances R used for the updating frequencies (default: up to 8).
-    #[arg(long)]
-    resonances: Option<usize>,
-    /// Updating frequencies at (1 ± C)·f_r around each resonance [Eq. 42]
-    /// (default: 0.05 robust, 0.08 paper).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    offset: Option<f64>,
-    /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
-    #[arg(long, value_name = "F1,F2,...", allow_hyphen_values = true)]
-    freqs: Option<String>,
-    /// Add the natural-frequency equations [Eq. 16-22].
-    #[arg(long)]
-    with_frequencies: bool,
-    /// First bring the paired resonances within 1 % by the natural-frequency
-    /// equations alone, then update from FRFs (default with --method robust).
-    #[arg(long)]
-    frequencies_first: bool,
-    /// How the test's resonances and their shapes are found (default: fit
-    /// robust, peaks paper).
-    #[arg(long, value_enum)]
-    resonance_method: Option<ResonanceMethodArg>,
-    /// How the reduced dynamic stiffness is inverted [§3.3-3.4].
-    #[arg(long, value_enum, default_value = "svd")]
-    inverse: Inverse,
-    /// Relative diagonal perturbation for --inverse perturb.
-    #[arg(long, default_value_t = frfup::updating::DEFAULT_PERTURBATION, allow_negative_numbers = true, value_parser = finite)]
-    perturbation: f64,
-    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E [Eq. 40].
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    svd_eps: Option<f64>,
-    /// Tikhonov damping of each FRF step, relative to the largest singular
-    /// value (default: 0.05 robust, 0 paper = the plain SVD solution).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    damping: Option<f64>,
-    /// Stop the iteration when max |p_j| < T [Eq. 49] (default 0.01).
-    #[arg(long, allow_negative_numbers = true, value_parser = finite)]
-    tol: Option<f64>,
-    /// Iteration limit of the paper's iteration (default 20).
-    #[arg(long)]
-    max_iter: Option<usize>,
-}
-
-/// `--method`.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum MethodArg {
-    Robust,
-    Paper,
-}
-
-/// `--resonance-method`.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-enum ResonanceMethodArg {
-    /// Peak picking on the summed mobility (the paper's way).
-    Peaks,
-    /// Multi-channel pole-residue fit: finds weak modes, separates close ones.
-    Fit,
-}
-
-impl UpdateArgs {
-    /// The options: the `--method` preset (or `base` without `--method`),
-    /// with every option given on the command line applied.
-    fn options_from(
-        &self,
-        base: frfup::updating::UpdateOptions,
-    ) -> Result<frfup::updating::UpdateOptions, CommandError> {
-        use frfup::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
-        let mut o = match self.method {
-            None => base,
-            Some(MethodArg::Robust) => UpdateOptions::default(),
-            Some(MethodArg::Paper) => UpdateOptions::paper(),
-        };
-        o.modes = self.modes.or(o.modes);
-        o.resonances = self.resonances.or(o.resonances);
-        o.offset = self.offset.unwrap_or(o.offset);
-        o.with_frequencies |= self.with_frequencies;
-        o.frequencies_first |= self.frequencies_first;
-        if let Some(m) = self.resonance_method {
-            o.resonance_method = match m {
-                ResonanceMethodArg::Peaks => ResonanceMethod::PeakPicking,
-                ResonanceMethodArg::Fit => ResonanceMethod::ModalFit,
-            };
-        }
-        o.svd_eps = self.svd_eps.unwrap_or(o.svd_eps);
-        o.damping = self.damping.unwrap_or(o.damping);
-        o.tol = self.tol.unwrap_or(o.tol);
-        o.max_iter = self.max_iter.unwrap_or(o.max_iter);
-        o.inverse = match self.inverse {
-            Inverse::Svd => InverseMethod::Svd,
-            Inverse::Perturb => InverseMethod::Perturb {
-                relative: self.perturbation,
-            },
-        };
-        if let Some(f) = &self.freqs {
-            o.frequencies_hz = Some(
-                frfup::batch::campaign::parse_freqs(f)
-                    .map_err(|e| CommandError::input(format!("--{e}")))?,
-            );
-        }
-        Ok(o)
-    }
-}
-
-#[derive(Clone, Copy, ValueEnum)]
 enum OutputKind {
     Receptance,
     Mobility,
     Accelerance,
+}
+
+impl OutputKind {
+    fn kind(self) -> FrfKind {
+        match self {
+            OutputKind::Receptance => FrfKind::Receptance,
+            OutputKind::Mobility => FrfKind::Mobility,
+            OutputKind::Accelerance => FrfKind::Accelerance,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -328,277 +241,252 @@ enum ToKind {
     DisplacementReal,
 }
 
-fn run(cli: Cli) -> Result<(), CommandError> {
-    let progress = Progress::detect(cli.quiet);
-    tasks::set_strict(cli.strict);
-    match cli.command {
-        Command::Demo { out } => {
-            frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
-            let start = std::time::Instant::now();
-            let reporter = StepReporter::new(cli.quiet, 21, "iteration");
-            let result = commands::demo::run(&out, &mut |rec| {
-                reporter.step(&iteration_line(rec));
-            });
-            reporter.finish();
-            let (outcome, report) = result?;
-            print_timings(cli.verbose, &outcome);
-            print_update_summary(&outcome);
-            println!(
-                "done in {:.1} s. Open {} (and report.html, the .svg charts, updated.deck in {})",
-                start.elapsed().as_secs_f64(),
-                report.display(),
-                out.display()
-            );
-        }
-        Command::Info { file, json } => {
-            print!("{}", commands::info::run(&file, json, progress)?);
-        }
-        Command::Convert {
-            input,
-            output,
-            to,
-            channels,
-            binary,
-        } => {
-            let to = to.map(|t| match t {
-                ToKind::Receptance => convert::Target::Kind(FrfKind::Receptance),
-                ToKind::Mobility => convert::Target::Kind(FrfKind::Mobility),
-                ToKind::Accelerance => convert::Target::Kind(FrfKind::Accelerance),
-                ToKind::DisplacementReal => convert::Target::DisplacementReal,
-            });
-            let summary = convert::run(&convert::ConvertOptions {
-                input,
-                output: output.clone(),
-                to,
-                channels,
-                binary,
-                progress,
-            })?;
-            if !cli.quiet {
-                for note in &summary.notes {
-                    eprintln!("note: {note}");
-                }
-                eprintln!(
-                    "wrote {} record(s) of {} line(s) to {}",
-                    summary.records,
-                    summary.lines,
-                    output.display()
-                );
-            }
-        }
-        Command::Modes {
-            deck,
-            count,
-            csv,
-            set,
-        } => {
-            let values = commands::modes::parse_settings(&set)?;
-            print!(
-                "{}",
-                commands::modes::run(&commands::modes::ModesOptions {
-                    deck,
-                    count,
-                    csv,
-                    values,
-                })?
-            );
-        }
-        Command::Simulate {
-            deck,
-            input,
-            response,
-            band,
-            out,
-            output,
-            sensors,
-            noise,
-            seed,
-            set,
-            binary,
-            single,
-        } => {
-            use commands::simulate as sim;
-            let response = response
-                .map(|r| sim::parse_node_direction(&r, "--response"))
-                .transpose()?;
-            let input = match (input, response) {
-                (Some(i), _) => sim::parse_node_direction(&i, "--input")?,
-                (None, Some(r)) => r,
-                (None, None) => {
-                    return Err(CommandError::input(
-                        "simulate needs --input NODE:DIR (fixed exciter) or --response NODE:DIR (roving hammer)",
-                    ))
-                }
-            };
-            let campaign = frfup::simulate::Campaign {
-                input,
-                band: sim::parse_band(&band)?,
-                lines_hz: None,
-                response,
-                output: match output {
-                    OutputKind::Receptance => FrfKind::Receptance,
-                    OutputKind::Mobility => FrfKind::Mobility,
-                    OutputKind::Accelerance => FrfKind::Accelerance,
-                },
-                sensors: sim::parse_sensors(&sensors)?,
-                noise,
-                seed,
-            };
-            let values = commands::modes::parse_settings(&set)?;
-            let n = sim::run(&sim::SimulateOptions {
-                deck,
-                out: out.clone(),
-                campaign,
-                values,
-                binary,
-                single,
-            })?;
-            if !cli.quiet {
-                eprintln!("wrote {n} FRF record(s) to {}", out.display());
-            }
-        }
-        Command::Update {
-            deck,
-            test,
-            out,
-            args,
-            fail_below_sfdac,
-            fail_above_freq_error,
-        } => {
-            let cmd = update::UpdateCommand {
-                deck,
-                test,
-                out: out.clone(),
-                options: args.options_from(frfup::updating::UpdateOptions::default())?,
-            };
-            let reporter =
-                StepReporter::new(cli.quiet, cmd.options.max_iter as u64 + 1, "iteration");
-            let result = update::run(&cmd, &mut |rec| {
-                reporter.step(&iteration_line(rec));
-            });
-            reporter.finish();
-            let outcome = result?;
-            print_timings(cli.verbose, &outcome);
-            print_update_summary(&outcome);
-            println!("wrote {}", out.display());
-            let thresholds = update::Thresholds {
-                min_sfdac: fail_below_sfdac,
-                max_freq_error_pct: fail_above_freq_error,
-            };
-            if !outcome.result.converged {
-                return Err(CommandError::threshold(format!(
-                    "not converged: {}",
-                    frfup::report::status::not_converged_reason(&outcome.result)
-                )));
-            }
-            check_thresholds(&outcome, thresholds)?;
-        }
-        Command::Diagnose {
-            deck,
-            test,
-            out,
-            no_update,
-            max_findings,
-            args,
-        } => {
-            let cmd = commands::diagnose::DiagnoseCommand {
-                deck,
-                test,
-                out: out.clone(),
-                options: frfup::diagnosis::DiagnoseOptions {
-                    update: args.options_from(frfup::updating::UpdateOptions::paper())?,
-                    skip_update: no_update,
-                    max_findings,
-                    ..Default::default()
-                },
-            };
-            let d = commands::diagnose::run(&cmd)?;
-            if cli.verbose {
-                for (stage, secs, units) in &d.timings {
-                    eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
-                }
-            }
-            print!("{}", commands::diagnose::summary(&d));
-            println!("wrote {}", out.display());
-        }
-        Command::Batch {
-            campaign,
-            out,
-            jobs,
-            shard,
-            fail_below_sfdac,
-            fail_above_freq_error,
-        } => {
-            frfup::fsio::check_out_folder(&out).map_err(CommandError::input)?;
-            let shard = shard
-                .map(|s| frfup::batch::Shard::parse(&s))
-                .transpose()
-                .map_err(CommandError::input)?;
-            let reporter = Mutex::new(None::<StepReporter>);
-            let quiet = cli.quiet;
-            let result = frfup::batch::run(
-                &frfup::batch::BatchOptions {
-                    campaign,
-                    out: out.clone(),
-                    jobs,
-                    shard,
-                    thresholds: update::Thresholds {
-                        min_sfdac: fail_below_sfdac,
-                        max_freq_error_pct: fail_above_freq_error,
-                    },
-                },
-                &|c, n, total| {
-                    let line = format!(
-                        "[{n}/{total}] {}: {} ({:.2} s){}",
-                        c.name,
-                        c.status.name(),
-                        c.wall_time_s,
-                        match &c.status {
-                            frfup::batch::CaseStatus::Passed => String::new(),
-                            frfup::batch::CaseStatus::NotConverged(r) => format!(": {r}"),
-                            frfup::batch::CaseStatus::ThresholdFailed(r) =>
-                                format!(": {}", r.join("; ")),
-                            frfup::batch::CaseStatus::Error(e) => format!(": {e}"),
-                        }
-                    );
-                    if let Ok(mut r) = reporter.lock() {
-                        r.get_or_insert_with(|| StepReporter::new(quiet, total as u64, "case"))
-                            .step(&line);
-                    }
-                },
-            );
-            if let Ok(r) = reporter.lock() {
-                if let Some(r) = r.as_ref() {
-                    r.finish();
-                }
-            }
-            let summary = result?;
-            println!(
-                "{}; summary in {}",
-                summary.totals(),
-                out.join("summary.md").display()
-            );
-            match summary.exit_code() {
-                0 => {}
-                1 => {
-                    let nc = summary.count("not-converged");
-                    return Err(CommandError::threshold(if nc > 0 {
-                        format!(
-                            "{nc} case(s) did not converge or a threshold failed (see the summary)"
-                        )
-                    } else {
-                        "a threshold failed (see the summary)".to_string()
-                    }));
-                }
-                _ => {
-                    return Err(CommandError::input(
-                        "a case could not run (see the summary)",
-                    ))
-                }
-            }
+impl ToKind {
+    fn target(self) -> convert::Target {
+        match self {
+            ToKind::Receptance => convert::Target::Kind(FrfKind::Receptance),
+            ToKind::Mobility => convert::Target::Kind(FrfKind::Mobility),
+            ToKind::Accelerance => convert::Target::Kind(FrfKind::Accelerance),
+            ToKind::DisplacementReal => convert::Target::DisplacementReal,
         }
     }
+}
+
+fn run(cli: Cli) -> Result<(), CommandError> {
+    tasks::set_strict(cli.strict);
+    let g = Global {
+        quiet: cli.quiet,
+        verbose: cli.verbose,
+        progress: Progress::detect(cli.quiet),
+    };
+    match cli.command {
+        Command::Demo(a) => demo(a, &g),
+        Command::Info(a) => {
+            print!("{}", commands::info::run(&a.file, a.json, g.progress)?);
+            Ok(())
+        }
+        Command::Convert(a) => convert(a, &g),
+        Command::Modes(a) => modes(a),
+        Command::Simulate(a) => simulate(a, &g),
+        Command::Update(a) => update(a, &g),
+        Command::Diagnose(a) => diagnose(a, &g),
+        Command::Batch(a) => batch(a, &g),
+    }
+}
+
+fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
+    frfup::fsio::check_out_folder(&a.out).map_err(CommandError::input)?;
+    let start = std::time::Instant::now();
+    let reporter = StepReporter::new(g.quiet, 21, "iteration");
+    let result = commands::demo::run(&a.out, &mut |rec| {
+        reporter.step(&iteration_line(rec));
+    });
+    reporter.finish();
+    let (outcome, report) = result?;
+    print_timings(g.verbose, &outcome);
+    print_update_summary(&outcome);
+    println!(
+        "done in {:.1} s. Open {} (and report.html, the .svg charts, updated.deck in {})",
+        start.elapsed().as_secs_f64(),
+        report.display(),
+        a.out.display()
+    );
     Ok(())
+}
+
+fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
+    let summary = convert::run(&convert::ConvertOptions {
+        input: a.input,
+        output: a.output.clone(),
+        to: a.to.map(ToKind::target),
+        channels: a.channels,
+        binary: a.binary,
+        progress: g.progress,
+    })?;
+    if !g.quiet {
+        for note in &summary.notes {
+            eprintln!("note: {note}");
+        }
+        eprintln!(
+            "wrote {} record(s) of {} line(s) to {}",
+            summary.records,
+            summary.lines,
+            a.output.display()
+        );
+    }
+    Ok(())
+}
+
+fn modes(a: ModesArgs) -> Result<(), CommandError> {
+    let values = commands::modes::parse_settings(&a.set)?;
+    let table = commands::modes::run(&commands::modes::ModesOptions {
+        deck: a.deck,
+        count: a.count,
+        csv: a.csv,
+        values,
+    })?;
+    print!("{table}");
+    Ok(())
+}
+
+fn simulate(a: SimulateArgs, g: &Global) -> Result<(), CommandError> {
+    use commands::simulate as sim;
+    let response = a
+        .response
+        .map(|r| sim::parse_node_direction(&r, "--response"))
+        .transpose()?;
+    let input = match (a.input, response) {
+        (Some(i), _) => sim::parse_node_direction(&i, "--input")?,
+        (None, Some(r)) => r,
+        (None, None) => {
+            return Err(CommandError::input(
+                "simulate needs --input NODE:DIR (fixed exciter) or --response NODE:DIR (roving hammer)",
+            ))
+        }
+    };
+    let campaign = frfup::simulate::Campaign {
+        input,
+        band: sim::parse_band(&a.band)?,
+        lines_hz: None,
+        response,
+        output: a.output.kind(),
+        sensors: sim::parse_sensors(&a.sensors)?,
+        noise: a.noise,
+        seed: a.seed,
+    };
+    let n = sim::run(&sim::SimulateOptions {
+        deck: a.deck,
+        out: a.out.clone(),
+        campaign,
+        values: commands::modes::parse_settings(&a.set)?,
+        binary: a.binary,
+        single: a.single,
+    })?;
+    if !g.quiet {
+        eprintln!("wrote {n} FRF record(s) to {}", a.out.display());
+    }
+    Ok(())
+}
+
+fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
+    let cmd = update::UpdateCommand {
+        deck: a.deck,
+        test: a.test,
+        out: a.out.clone(),
+        options: a.settings.resolve(UpdateMethod::Robust),
+    };
+    let reporter = StepReporter::new(g.quiet, cmd.options.max_iter as u64 + 1, "iteration");
+    let result = update::run(&cmd, &mut |rec| {
+        reporter.step(&iteration_line(rec));
+    });
+    reporter.finish();
+    let outcome = result?;
+    print_timings(g.verbose, &outcome);
+    print_update_summary(&outcome);
+    println!("wrote {}", a.out.display());
+    if !outcome.result.converged {
+        return Err(CommandError::threshold(format!(
+            "not converged: {}",
+            frfup::report::status::not_converged_reason(&outcome.result)
+        )));
+    }
+    check_thresholds(&outcome, a.thresholds)
+}
+
+fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
+    let cmd = commands::diagnose::DiagnoseCommand {
+        deck: a.deck,
+        test: a.test,
+        out: a.out.clone(),
+        options: frfup::diagnosis::DiagnoseOptions {
+            update: a.settings.resolve(UpdateMethod::Paper),
+            skip_update: a.no_update,
+            max_findings: a.max_findings,
+            ..Default::default()
+        },
+    };
+    let d = commands::diagnose::run(&cmd)?;
+    if g.verbose {
+        for (stage, secs, units) in &d.timings {
+            eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
+        }
+    }
+    print!("{}", commands::diagnose::summary(&d));
+    println!("wrote {}", a.out.display());
+    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
+    if verdict.is_conclusive() {
+        Ok(())
+    } else {
+        Err(CommandError::threshold(verdict.status()))
+    }
+}
+
+fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
+    frfup::fsio::check_out_folder(&a.out).map_err(CommandError::input)?;
+    let shard = a
+        .shard
+        .map(|s| frfup::batch::Shard::parse(&s))
+        .transpose()
+        .map_err(CommandError::input)?;
+    let reporter = Mutex::new(None::<StepReporter>);
+    let result = frfup::batch::run(
+        &frfup::batch::BatchOptions {
+            campaign: a.campaign,
+            out: a.out.clone(),
+            jobs: a.jobs,
+            shard,
+            thresholds: a.thresholds,
+        },
+        &|c, n, total| {
+            let line = format!("[{n}/{total}] {}", case_line(c));
+            if let Ok(mut r) = reporter.lock() {
+                r.get_or_insert_with(|| StepReporter::new(g.quiet, total as u64, "case"))
+                    .step(&line);
+            }
+        },
+    );
+    if let Ok(r) = reporter.lock() {
+        if let Some(r) = r.as_ref() {
+            r.finish();
+        }
+    }
+    let summary = result?;
+    println!(
+        "{}; summary in {}",
+        summary.totals(),
+        a.out.join("summary.md").display()
+    );
+    match summary.exit_code() {
+        0 => Ok(()),
+        1 => {
+            let nc = summary.count("not-converged");
+            Err(CommandError::threshold(if nc > 0 {
+                format!("{nc} case(s) did not converge or a threshold failed (see the summary)")
+            } else {
+                "a threshold failed (see the summary)".to_string()
+            }))
+        }
+        _ => Err(CommandError::input(
+            "a case could not run (see the summary)",
+        )),
+    }
+}
+
+/// One line of a finished batch case: name, status, time and why.
+fn case_line(c: &frfup::batch::CaseSummary) -> String {
+    use frfup::batch::CaseStatus;
+    let why = match &c.status {
+        CaseStatus::Passed => String::new(),
+        CaseStatus::NotConverged(r) => format!(": {r}"),
+        CaseStatus::ThresholdFailed(r) => format!(": {}", r.join("; ")),
+        CaseStatus::Error(e) => format!(": {e}"),
+    };
+    format!(
+        "{}: {} ({:.2} s){why}",
+        c.name,
+        c.status.name(),
+        c.wall_time_s
+    )
 }
 
 fn print_update_summary(outcome: &update::UpdateOutcome) {
@@ -665,10 +553,7 @@ fn pct(x: Option<f64>) -> String {
         .unwrap_or_else(|| "n/a".into())
 }
 
-fn check_thresholds(
-    outcome: &update::UpdateOutcome,
-    t: update::Thresholds,
-) -> Result<(), CommandError> {
+fn check_thresholds(outcome: &update::UpdateOutcome, t: Thresholds) -> Result<(), CommandError> {
     let reasons = update::threshold_failures(outcome, t);
     if reasons.is_empty() {
         Ok(())

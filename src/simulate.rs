@@ -164,7 +164,7 @@ pub fn simulate(
         &outputs,
     );
     let mut rng = Gaussian::new(campaign.seed);
-    let order = campaign.output.order();
+    let kind = campaign.output;
     let channels = sensors
         .iter()
         .enumerate()
@@ -173,12 +173,7 @@ pub fn simulate(
                 .iter()
                 .enumerate()
                 .map(|(col, &w)| {
-                    let h = receptance[(row, col)] * (signs[row] * input_sign);
-                    match order {
-                        0 => h,
-                        1 => h * c64::new(0.0, w),
-                        _ => h * c64::new(-w * w, 0.0),
-                    }
+                    receptance[(row, col)] * (signs[row] * input_sign) * kind.from_receptance(w)
                 })
                 .collect();
             if campaign.noise > 0.0 {

@@ -1,8 +1,9 @@
-//! Campaign files of `frfup batch`: TOML with one `[[case]]` table per case.
+//! Campaign files of `frfup batch`: TOML with one `[[case]]` table per case
+//! (the format is described in `docs/campaign.md`).
 //!
 //! ```toml
-//! fail_below_sfdac = 0.9          # optional campaign-wide thresholds
-//! fail_above_freq_error = 2.0     # mean |Δf/f| in %
+//! fail-below-sfdac = 0.9          # optional campaign-wide thresholds
+//! fail-above-freq-error = 2.0     # mean |Δf/f| in %
 //!
 //! [[case]]
 //! name = "cantilever"
@@ -12,13 +13,21 @@
 //! offset = 0.08
 //! freqs = [6.0, 24.0]             # or "6,24"
 //! with-frequencies = true
-//! fail_below_sfdac = 0.95         # per-case thresholds override the campaign's
+//! fail-below-sfdac = 0.95         # per-case thresholds override the campaign's
 //! ```
+//!
+//! Keys are the command line's flags without `--`: the options of a case
+//! are [`UpdateSettings`] and the thresholds [`Thresholds`], read by their
+//! serde derives. `_` may stand for `-` in a key (`fail_below_sfdac`, as
+//! campaign files were first written).
 
 use std::path::{Path, PathBuf};
 
+use serde::de::DeserializeOwned;
+
 use crate::tasks::update::Thresholds;
-use crate::updating::{InverseMethod, ResonanceMethod, UpdateOptions};
+use crate::updating::options::long_names;
+use crate::updating::{UpdateMethod, UpdateOptions, UpdateSettings};
 
 /// One case of a campaign.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,8 +62,6 @@ impl std::fmt::Display for CampaignError {
 
 impl std::error::Error for CampaignError {}
 
-const THRESHOLD_KEYS: [&str; 2] = ["fail_below_sfdac", "fail_above_freq_error"];
-
 /// Parse a campaign; `path` names the file in errors and anchors relative paths.
 pub fn parse(text: &str, path: &Path) -> Result<Campaign, CampaignError> {
     let err = |m: String| CampaignError {
@@ -71,25 +78,29 @@ pub fn parse(text: &str, path: &Path) -> Result<Campaign, CampaignError> {
         }
     })?;
     let base = path.parent().unwrap_or(Path::new("."));
-    for key in table.keys() {
-        if key != "case" && !THRESHOLD_KEYS.contains(&key.as_str()) {
-            return Err(err(format!(
-                "unknown top-level key `{key}`: expected [[case]] tables and optional fail_below_sfdac, fail_above_freq_error"
-            )));
-        }
+    let mut table = kebab_keys(table, "campaign").map_err(err)?;
+    let threshold_keys = long_names::<Thresholds>();
+    if let Some(key) = table
+        .keys()
+        .find(|k| *k != "case" && !threshold_keys.contains(k))
+    {
+        return Err(err(format!(
+            "unknown top-level key `{key}`: expected [[case]] tables and optional {}",
+            threshold_keys.join(", ")
+        )));
     }
-    let thresholds = thresholds(&table, "campaign").map_err(err)?;
-    let cases_value = table.get("case").ok_or_else(|| {
+    let cases_value = table.remove("case").ok_or_else(|| {
         err("no [[case]] table: a campaign lists its cases as [[case]] tables".into())
     })?;
-    let cases_array = cases_value
-        .as_array()
-        .ok_or_else(|| err("`case` must be an array of tables ([[case]])".into()))?;
+    let thresholds: Thresholds = from_table(table, "campaign").map_err(err)?;
+    let toml::Value::Array(cases_array) = cases_value else {
+        return Err(err("`case` must be an array of tables ([[case]])".into()));
+    };
     let mut cases = Vec::with_capacity(cases_array.len());
-    for (index, v) in cases_array.iter().enumerate() {
-        let t = v
-            .as_table()
-            .ok_or_else(|| err(format!("case #{} is not a table", index + 1)))?;
+    for (index, v) in cases_array.into_iter().enumerate() {
+        let toml::Value::Table(t) = v else {
+            return Err(err(format!("case #{} is not a table", index + 1)));
+        };
         cases.push(case(index, t, base).map_err(err)?);
     }
     let mut names: Vec<&str> = cases.iter().map(|c| c.name.as_str()).collect();
@@ -103,204 +114,78 @@ pub fn parse(text: &str, path: &Path) -> Result<Campaign, CampaignError> {
     Ok(Campaign { cases, thresholds })
 }
 
-fn thresholds(t: &toml::Table, what: &str) -> Result<Thresholds, String> {
-    Ok(Thresholds {
-        min_sfdac: opt_f64(t, "fail_below_sfdac", what)?,
-        max_freq_error_pct: opt_f64(t, "fail_above_freq_error", what)?,
-    })
-}
-
-fn opt_f64(t: &toml::Table, key: &str, what: &str) -> Result<Option<f64>, String> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(toml::Value::Float(x)) if x.is_finite() => Ok(Some(*x)),
-        Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
-        Some(v) => Err(format!("{what}: `{key}` must be a number, found {v}")),
-    }
-}
-
-fn opt_usize(t: &toml::Table, key: &str, what: &str) -> Result<Option<usize>, String> {
-    match t.get(key) {
-        None => Ok(None),
-        Some(toml::Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
-        Some(v) => Err(format!(
-            "{what}: `{key}` must be a non-negative integer, found {v}"
-        )),
-    }
-}
-
-fn case(index: usize, t: &toml::Table, base: &Path) -> Result<Case, String> {
-    let what = format!("case #{}", index + 1);
-    let string = |key: &str| -> Result<String, String> {
-        match t.get(key) {
-            Some(toml::Value::String(s)) if !s.trim().is_empty() => Ok(s.clone()),
-            Some(v) => Err(format!(
-                "{what}: `{key}` must be a non-empty string, found {v}"
-            )),
-            None => Err(format!("{what}: missing `{key}`")),
+/// `t` with `_` in its keys read as `-` (one spelling of each key).
+fn kebab_keys(t: toml::Table, what: &str) -> Result<toml::Table, String> {
+    let mut out = toml::Table::new();
+    for (key, value) in t {
+        let kebab = key.replace('_', "-");
+        if out.contains_key(&kebab) {
+            return Err(format!(
+                "{what}: `{kebab}` is given twice (`_` and `-` spell the same key)"
+            ));
         }
-    };
-    let name = string("name")?;
+        out.insert(kebab, value);
+    }
+    Ok(out)
+}
+
+/// `t` read as `T` (its serde derive); errors name `what` and the key.
+fn from_table<T: DeserializeOwned>(t: toml::Table, what: &str) -> Result<T, String> {
+    toml::Value::Table(t)
+        .try_into()
+        .map_err(|e: toml::de::Error| {
+            let e = e.to_string();
+            format!("{what}: {}", e.trim().replace('\n', " "))
+        })
+}
+
+/// Remove the string `key` of `t`: present and not blank.
+fn take_string(t: &mut toml::Table, key: &str, what: &str) -> Result<String, String> {
+    match t.remove(key) {
+        Some(toml::Value::String(s)) if !s.trim().is_empty() => Ok(s),
+        Some(v) => Err(format!(
+            "{what}: `{key}` must be a non-empty string, found {v}"
+        )),
+        None => Err(format!("{what}: missing `{key}`")),
+    }
+}
+
+fn case(index: usize, t: toml::Table, base: &Path) -> Result<Case, String> {
+    let mut what = format!("case #{}", index + 1);
+    if let Some(toml::Value::String(name)) = t.get("name") {
+        what = format!("{what} ({name})");
+    }
+    let mut t = kebab_keys(t, &what)?;
+    let name = take_string(&mut t, "name", &what)?;
     if name.contains(['/', '\\']) || name == "." || name == ".." {
         return Err(format!(
             "{what}: name {name:?} must not contain path separators (it names the case's folder)"
         ));
     }
-    let what = format!("case #{} ({name})", index + 1);
-    let model = base.join(string("model")?);
-    let test = base.join(string("test")?);
-    const KNOWN: [&str; 21] = [
-        "name",
-        "model",
-        "test",
-        "modes",
-        "resonances",
-        "offset",
-        "freqs",
-        "with-frequencies",
-        "frequencies-first",
-        "inverse",
-        "perturbation",
-        "svd-eps",
-        "damping",
-        "resonance-method",
-        "tol",
-        "max-iter",
-        "method",
-        "fail_below_sfdac",
-        "fail_above_freq_error",
-        "fail-below-sfdac",
-        "fail-above-freq-error",
-    ];
-    for key in t.keys() {
-        if !KNOWN.contains(&key.as_str()) {
-            return Err(format!(
-                "{what}: unknown key `{key}`; expected name, model, test, an update option (method, modes, resonances, offset, freqs, with-frequencies, frequencies-first, resonance-method, inverse, perturbation, svd-eps, damping, tol, max-iter) or a threshold"
-            ));
-        }
+    let model = base.join(take_string(&mut t, "model", &what)?);
+    let test = base.join(take_string(&mut t, "test", &what)?);
+    let (option_keys, threshold_keys) = (UpdateSettings::names(), long_names::<Thresholds>());
+    if let Some(key) = t
+        .keys()
+        .find(|k| !option_keys.contains(k) && !threshold_keys.contains(k))
+    {
+        return Err(format!(
+            "{what}: unknown key `{key}`; expected name, model, test, an update option ({}) or a threshold ({})",
+            option_keys.join(", "),
+            threshold_keys.join(", ")
+        ));
     }
-    let defaults = match t.get("method") {
-        None => UpdateOptions::default(),
-        Some(v) => match v.as_str() {
-            Some("robust") => UpdateOptions::default(),
-            Some("paper") => UpdateOptions::paper(),
-            _ => {
-                return Err(format!(
-                    "{what}: `method` must be \"robust\" or \"paper\", found {v}"
-                ))
-            }
-        },
-    };
-    let frequencies_hz = match t.get("freqs") {
-        None => None,
-        Some(toml::Value::Array(a)) => Some(
-            a.iter()
-                .map(|x| match x {
-                    toml::Value::Float(f) => Ok(*f),
-                    toml::Value::Integer(i) => Ok(*i as f64),
-                    other => Err(format!("{what}: `freqs` must hold numbers, found {other}")),
-                })
-                .collect::<Result<Vec<f64>, String>>()?,
-        ),
-        Some(toml::Value::String(s)) => Some(parse_freqs(s).map_err(|e| format!("{what}: {e}"))?),
-        Some(other) => {
-            return Err(format!(
-                "{what}: `freqs` must be a list of numbers, found {other}"
-            ))
-        }
-    };
-    let with_frequencies = match t.get("with-frequencies") {
-        None => defaults.with_frequencies,
-        Some(v) => v
-            .as_bool()
-            .ok_or_else(|| format!("{what}: `with-frequencies` must be true or false"))?,
-    };
-    let frequencies_first = match t.get("frequencies-first") {
-        None => defaults.frequencies_first,
-        Some(v) => v
-            .as_bool()
-            .ok_or_else(|| format!("{what}: `frequencies-first` must be true or false"))?,
-    };
-    let resonance_method = match t.get("resonance-method") {
-        None => defaults.resonance_method,
-        Some(v) => match v.as_str() {
-            Some("peaks") => ResonanceMethod::PeakPicking,
-            Some("fit") => ResonanceMethod::ModalFit,
-            _ => {
-                return Err(format!(
-                    "{what}: `resonance-method` must be \"peaks\" or \"fit\", found {v}"
-                ))
-            }
-        },
-    };
-    let perturbation = opt_f64(t, "perturbation", &what)?;
-    let inverse = match t.get("inverse") {
-        None => defaults.inverse,
-        Some(v) => match v.as_str() {
-            Some("svd") => InverseMethod::Svd,
-            Some("perturb") => InverseMethod::Perturb {
-                relative: perturbation.unwrap_or(crate::updating::DEFAULT_PERTURBATION),
-            },
-            _ => {
-                return Err(format!(
-                    "{what}: `inverse` must be \"svd\" or \"perturb\", found {v}"
-                ))
-            }
-        },
-    };
-    let o = UpdateOptions {
-        modes: opt_usize(t, "modes", &what)?,
-        resonances: opt_usize(t, "resonances", &what)?,
-        offset: opt_f64(t, "offset", &what)?.unwrap_or(defaults.offset),
-        frequencies_hz,
-        with_frequencies,
-        frequencies_first,
-        inverse,
-        svd_eps: opt_f64(t, "svd-eps", &what)?.unwrap_or(defaults.svd_eps),
-        damping: opt_f64(t, "damping", &what)?.unwrap_or(defaults.damping),
-        resonance_method,
-        tol: opt_f64(t, "tol", &what)?.unwrap_or(defaults.tol),
-        max_iter: opt_usize(t, "max-iter", &what)?.unwrap_or(defaults.max_iter),
-        ..defaults
-    };
-    let mut th = thresholds(t, &what)?;
-    th.min_sfdac = th.min_sfdac.or(opt_f64(t, "fail-below-sfdac", &what)?);
-    th.max_freq_error_pct = th
-        .max_freq_error_pct
-        .or(opt_f64(t, "fail-above-freq-error", &what)?);
+    let (thresholds, options): (toml::Table, toml::Table) =
+        t.into_iter().partition(|(k, _)| threshold_keys.contains(k));
+    let settings: UpdateSettings = from_table(options, &what)?;
     Ok(Case {
         index,
         name,
         model,
         test,
-        options: o,
-        thresholds: th,
+        options: settings.resolve(UpdateMethod::Robust),
+        thresholds: from_table(thresholds, &what)?,
     })
-}
-
-/// `F1,F2,...` in Hz.
-pub fn parse_freqs(s: &str) -> Result<Vec<f64>, String> {
-    let freqs = s
-        .split(',')
-        .map(str::trim)
-        .filter(|t| !t.is_empty())
-        .map(|t| {
-            t.parse::<f64>()
-                .ok()
-                .filter(|f| f.is_finite() && *f > 0.0)
-                .ok_or_else(|| format!("freqs: {t:?} is not a positive frequency in Hz"))
-        })
-        .collect::<Result<Vec<f64>, String>>()?;
-    if freqs.is_empty() {
-        return Err(format!("freqs: {s:?} holds no frequency"));
-    }
-    // The same frequency twice adds the same equations twice: a typo, not a choice.
-    for (i, f) in freqs.iter().enumerate() {
-        if freqs[..i].contains(f) {
-            return Err(format!("freqs: {f} Hz is given more than once"));
-        }
-    }
-    Ok(freqs)
 }
 
 /// `I/N` (1-based I): this machine runs the cases whose 0-based index i has i mod N = I − 1.
@@ -325,5 +210,80 @@ impl Shard {
     /// Whether the case at 0-based position `case_index` belongs to this shard.
     pub fn contains(&self, case_index: usize) -> bool {
         case_index % self.count == self.index - 1
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CASE: &str = "[[case]]\nname = \"a\"\nmodel = \"m.deck\"\ntest = \"t.uff\"\n";
+
+    fn parsed(text: &str) -> Result<Campaign, String> {
+        parse(text, Path::new("dir/c.toml")).map_err(|e| e.message)
+    }
+
+    #[test]
+    fn every_key_is_documented() {
+        let doc = include_str!("../../docs/campaign.md");
+        for key in UpdateSettings::names()
+            .into_iter()
+            .chain(long_names::<Thresholds>())
+        {
+            assert!(
+                doc.contains(&format!("| `{key}` |")),
+                "docs/campaign.md does not describe `{key}`"
+            );
+        }
+    }
+
+    #[test]
+    fn options_resolve_from_the_cases_method() {
+        let c = parsed(&format!(
+            "fail_below_sfdac = 0.5\n{CASE}method = \"paper\"\noffset = 0.1\nfreqs = [6, 24.5]\nmax_iter = 3\nfail-above-freq-error = 2\n"
+        ))
+        .unwrap();
+        let case = &c.cases[0];
+        assert_eq!(case.model, Path::new("dir/m.deck"));
+        assert_eq!(
+            case.options,
+            UpdateOptions {
+                offset: 0.1,
+                frequencies_hz: Some(vec![6.0, 24.5]),
+                max_iter: 3,
+                ..UpdateOptions::paper()
+            }
+        );
+        assert_eq!(c.thresholds.min_sfdac, Some(0.5));
+        assert_eq!(case.thresholds.max_freq_error_pct, Some(2.0));
+        let text = parsed(&format!("{CASE}freqs = \"6,24.5\"\n")).unwrap();
+        assert_eq!(text.cases[0].options.frequencies_hz, Some(vec![6.0, 24.5]));
+        assert_eq!(text.cases[0].options.method, UpdateMethod::Robust);
+    }
+
+    #[test]
+    fn errors_name_the_file_the_case_and_the_key() {
+        for (extra, words) in [
+            ("modez = 3\n", vec!["unknown key `modez`", "max-iter"]),
+            ("modes = -1\n", vec!["`modes`", "-1"]),
+            ("offset = nan\n", vec!["`offset`", "finite"]),
+            (
+                "freqs = [3, 3]\n",
+                vec!["`freqs`", "3 Hz is given more than once"],
+            ),
+            ("method = \"fast\"\n", vec!["`method`", "paper"]),
+            (
+                "fail_below_sfdac = 1\nfail-below-sfdac = 1\n",
+                vec!["`fail-below-sfdac` is given twice"],
+            ),
+        ] {
+            let e = parsed(&format!("{CASE}{extra}")).unwrap_err();
+            assert!(e.starts_with("dir/c.toml: case #1 (a): "), "{e}");
+            for w in words {
+                assert!(e.contains(w), "{extra}: {e}");
+            }
+        }
+        let e = parsed(&format!("fail-below = 1\n{CASE}")).unwrap_err();
+        assert!(e.contains("unknown top-level key `fail-below`"), "{e}");
     }
 }

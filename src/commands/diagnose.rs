@@ -53,10 +53,8 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
 
 /// One line per finding, for the terminal.
 pub fn summary(d: &Diagnosis) -> String {
-    let mut s = String::new();
-    if d.findings.is_empty() {
-        s.push_str("nothing missing: the deck's parameters explain the test to the noise level\n");
-    }
+    let verdict = diagnosis::verdict::Verdict::of(d);
+    let mut s = format!("{}: {}\n", verdict.status(), verdict.sentence());
     for f in &d.findings {
         let vals: Vec<String> = f
             .parameters

@@ -1,6 +1,6 @@
 //! The greedy search from one starting deck (steps 2–4): choose the damping
 //! form, then round after round fit and validate candidate extensions
-//! ([`super::search_round`]) and accept the one that predicts held-out data
+//! ([`search_round`]) and accept the one that predicts held-out data
 //! best by more than the margin, or a pair fitted jointly when two effects
 //! mask each other; after each acceptance the earlier extensions are
 //! re-estimated jointly and the damping form is chosen again. The search
@@ -14,9 +14,10 @@ use frfup_parsers::deck::Deck;
 use super::fit::DampingState;
 use super::hypotheses::{Hypothesis, Physics};
 use super::refit;
+use super::round::{search_round, Round};
 use super::search::Search;
 use super::select::{self, Engine, FitRequest, HypFit};
-use super::{search_round, sig, DiagnoseError, Finding, Rejected, Round};
+use super::{sig, DiagnoseError, Finding, Rejected};
 use crate::model::{self, ParameterValues};
 
 /// The state, then the outcome, of one greedy search.
@@ -56,7 +57,7 @@ pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, Di
             break;
         }
         let used = g.used_labels();
-        let step = search_round(engine, &g.current, &g.damp, engine.data, opts, &used)?;
+        let step = search_round(search, &g.current, &g.damp, &used)?;
         if round == 0 {
             g.localisation = step.localisation.clone();
         }

@@ -17,24 +17,26 @@ pub mod hypotheses;
 pub mod localise;
 pub mod refit;
 pub mod select;
+pub mod verdict;
 
 mod final_damping;
 mod first_stage;
 mod greedy;
+mod round;
 mod search;
 
 use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
 
-use crate::model::{self, ParameterValues};
+use crate::model::ParameterValues;
 use crate::testdata::MeasuredFrfs;
 use crate::updating::{self, UpdateOptions};
 use data::TestData;
 use fit::{DampingState, Mask};
-use hypotheses::{damping as hdamp, Context, Hypothesis, Physics};
+use hypotheses::{damping as hdamp, Physics};
 use search::Search;
-use select::{Engine, FitRequest, HypFit, LogSearch};
+use select::Engine;
 
 pub use crate::updating::fullband::{data, fit};
 
@@ -82,8 +84,13 @@ pub struct FitQuality {
     pub frf_error: f64,
     /// RMS of |ln(H_model/H_test)| over the same points.
     pub frf_log_rms: f64,
-    /// The damping the numbers were computed with.
+    /// The damping the numbers were computed with, in words.
     pub damping: String,
+    /// The same damping as a model (fitted to the test from the deck's).
+    pub damping_model: crate::model::Damping,
+    /// The model FRFs these numbers score, [channel][line] of
+    /// [`Diagnosis::data`], in the measured kind: what a report overlays.
+    pub frfs: Vec<Vec<faer::c64>>,
 }
 
 /// One accepted extension.
@@ -147,9 +154,11 @@ pub struct Diagnosis {
 }
 
 /// Run the diagnosis of `deck` against `test`: the test data the model
-/// places, the deck's own parameters updated (step 1), extensions searched
-/// greedily from each start (steps 2–4), then the damping of the
-/// extended model.
+/// places and what every stage shares (`search.rs`), the deck's own
+/// parameters updated (step 1, `first_stage.rs`), extensions searched
+/// greedily from each start (steps 2–4: `search.rs`, one search in
+/// `greedy.rs`, one round of it in `round.rs`), then the damping of the
+/// extended model (`final_damping.rs`).
 pub fn diagnose(
     deck: &Deck,
     test: &MeasuredFrfs,
@@ -227,346 +236,6 @@ pub fn diagnose(
 /// Number with 4 significant digits.
 pub use crate::model::sig;
 
-struct Round {
-    validated: Vec<(Hypothesis, HypFit, f64)>,
-    /// Every candidate fitted in full this round, best cost first.
-    fitted: Vec<(Hypothesis, HypFit)>,
-    localisation: Vec<(u32, f64, String)>,
-    /// The model has more than 200 DOFs (smaller searches).
-    large: bool,
-}
-
-/// One greedy round: generate, screen, fit, validate.
-fn search_round(
-    engine: &Engine,
-    current: &Deck,
-    damp: &DampingState,
-    data: &TestData,
-    opts: &DiagnoseOptions,
-    used: &[String],
-) -> Result<Round, DiagnoseError> {
-    let mm = engine.model(current)?;
-    let r0 = fit::residuals(
-        &fit::predict(&mm, damp.damping(), data, &engine.all),
-        data,
-        &engine.all,
-    );
-    let first_elastic = mm
-        .omega2
-        .iter()
-        .copied()
-        .find(|&w2| w2 > 1e-6 * mm.omega2.last().copied().unwrap_or(1.0).max(1e-300))
-        .unwrap_or(1.0)
-        .max(1e-12)
-        .sqrt();
-    let fe = model::build(current, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
-    let large = fe.dofs.len() > 200;
-    let mut sensor_nodes: Vec<u32> = data
-        .channels
-        .iter()
-        .map(|c| fe.sensors.get(&c.node).copied().unwrap_or(c.node))
-        .collect();
-    sensor_nodes.sort_unstable();
-    sensor_nodes.dedup();
-    let ctx = Context {
-        deck: current,
-        sensor_nodes,
-        total_mass: hypotheses::total_mass(current),
-        free_free: !fe.has_fixed_dofs,
-        first_elastic_omega: first_elastic,
-    };
-    let mut candidates: Vec<Hypothesis> = Vec::new();
-    candidates.extend(hypotheses::masses::sensor_mass(&ctx));
-    candidates.extend(hypotheses::springs::support_flexibility(&ctx));
-    candidates.extend(hypotheses::joint::joint_flexibility(&ctx));
-    candidates.extend(hypotheses::masses::added_mass(&ctx));
-    let suspension_singles = hypotheses::springs::suspension_single(&ctx);
-    let n_main = candidates.len();
-    candidates.extend(suspension_singles);
-    candidates.retain(|h| !used.contains(&h.label));
-    let probes = localise::probe(current, &r0, damp, data, &candidates);
-    // Node map: the best score at each node.
-    let mut node_scores: BTreeMap<u32, (f64, String)> = BTreeMap::new();
-    for p in &probes {
-        let h = &candidates[p.index];
-        if h.nodes.len() != 1 {
-            continue;
-        }
-        let e = node_scores
-            .entry(h.nodes[0])
-            .or_insert((0.0, String::new()));
-        if p.score > e.0 {
-            *e = (p.score, h.label.clone());
-        }
-    }
-    let mut localisation: Vec<(u32, f64, String)> = node_scores
-        .into_iter()
-        .filter(|(_, (s, _))| *s > 0.0)
-        .map(|(n, (s, l))| (n, s, l))
-        .collect();
-    localisation.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    localisation.truncate(10);
-
-    // Selection: the best-scored candidates overall, plus the best of each class.
-    let n_main = n_main.min(candidates.len());
-    let mut order: Vec<usize> = (0..candidates.len()).collect();
-    order.sort_by(|&a, &b| probes[b].score.total_cmp(&probes[a].score).then(a.cmp(&b)));
-    let mut chosen: Vec<Hypothesis> = Vec::new();
-    let main_order: Vec<usize> = order
-        .iter()
-        .copied()
-        .filter(|&i| i < n_main && candidates[i].physics != Physics::Suspension)
-        .collect();
-    for &i in main_order.iter().take(opts.fitted_per_round / 2) {
-        if probes[i].score > 0.0 {
-            chosen.push(candidates[i].clone());
-        }
-    }
-    for class in [
-        Physics::SensorMass,
-        Physics::SupportFlexibility,
-        Physics::JointFlexibility,
-        Physics::AddedMass,
-    ] {
-        // A model far from the test can make every linear probe useless
-        // (score ≤ 0): the few support DOFs and the one sensor-mass
-        // hypothesis are then fitted anyway.
-        let in_class = main_order
-            .iter()
-            .filter(|&&i| candidates[i].physics == class)
-            .count();
-        let always = matches!(class, Physics::SensorMass | Physics::SupportFlexibility);
-        let take = if always && in_class <= 6 { in_class } else { 2 };
-        for &i in main_order
-            .iter()
-            .filter(|&&i| candidates[i].physics == class && (always || probes[i].score > 0.0))
-            .take(take)
-        {
-            if !chosen.iter().any(|c| c.label == candidates[i].label) {
-                chosen.push(candidates[i].clone());
-            }
-        }
-    }
-    // Suspension: forward selection of same-stiffness springs per direction.
-    if ctx.free_free {
-        let mut dirs: Vec<String> = Vec::new();
-        for c in &candidates[n_main..] {
-            let d = c.dofs[0].clone();
-            if !dirs.contains(&d) {
-                dirs.push(d);
-            }
-        }
-        // Directions by their best single-spring score; on larger models
-        // only the best direction gets the pair search.
-        let best_single = |d: &String| {
-            (n_main..candidates.len())
-                .filter(|&i| candidates[i].dofs[0] == *d)
-                .map(|i| probes[i].score)
-                .fold(0.0f64, f64::max)
-        };
-        dirs.sort_by(|a, b| best_single(b).total_cmp(&best_single(a)).then(a.cmp(b)));
-        for (di, d) in dirs.into_iter().enumerate() {
-            let set: Vec<&localise::Probe> = (n_main..candidates.len())
-                .filter(|&i| candidates[i].dofs[0] == d)
-                .map(|i| &probes[i])
-                .collect();
-            let picked = localise::forward_select(&r0, &set, 4);
-            if picked.is_empty() {
-                continue;
-            }
-            let nodes: Vec<u32> = picked
-                .iter()
-                .map(|&k| candidates[set[k].index].nodes[0])
-                .collect();
-            let dof = match &candidates[set[0].index].extension {
-                hypotheses::Extension::GroundSprings { dof, .. } => *dof,
-                _ => continue,
-            };
-            for k in 1..=nodes.len() {
-                let mut set = nodes[..k].to_vec();
-                set.sort_unstable();
-                let h = hypotheses::springs::suspension(&ctx, set, dof);
-                if !used.contains(&h.label) {
-                    chosen.push(h);
-                }
-            }
-            // Pairs of springs among the best-scored nodes (all nodes on
-            // small models), screened by a coarse fit: one spring leaves a
-            // rigid-body mode at 0 Hz, so linear probes rank pairs poorly.
-            let mut ranked: Vec<usize> = (0..set.len()).collect();
-            ranked.sort_by(|&a, &b| set[b].score.total_cmp(&set[a].score).then(a.cmp(&b)));
-            let top = if large && di > 0 {
-                0
-            } else if large {
-                ranked.len().min(5)
-            } else {
-                ranked.len().min(16)
-            };
-            let pool: Vec<u32> = ranked[..top]
-                .iter()
-                .map(|&k| candidates[set[k].index].nodes[0])
-                .collect();
-            let mut pairs: Vec<(f64, Hypothesis)> = Vec::new();
-            for a in 0..pool.len() {
-                for b in a + 1..pool.len() {
-                    let mut ns = vec![pool[a], pool[b]];
-                    ns.sort_unstable();
-                    let h = hypotheses::springs::suspension(&ctx, ns, dof);
-                    if used.contains(&h.label) || chosen.iter().any(|c| c.label == h.label) {
-                        continue;
-                    }
-                    engine.damping_iterations.set(3);
-                    let f = engine.fit(&FitRequest {
-                        hypothesis: Some(&h),
-                        search: LogSearch::over_bounds(5, 3),
-                        with_std: false,
-                        ..FitRequest::damping(current, damp, &engine.all)
-                    });
-                    engine.damping_iterations.set(10);
-                    if let Some(f) = f {
-                        pairs.push((f.cost, h));
-                    }
-                }
-            }
-            pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chosen.extend(pairs.into_iter().take(2).map(|(_, h)| h));
-        }
-    }
-    // Shear deformation has no parameter: always fitted.
-    chosen.extend(
-        hypotheses::shear::shear_deformation(&ctx)
-            .into_iter()
-            .filter(|h| !used.contains(&h.label)),
-    );
-    // Full fits, then cross-validation of the most promising.
-    let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
-        .into_iter()
-        .filter_map(|h| {
-            let grid = engine.fit(&FitRequest {
-                hypothesis: Some(&h),
-                search: LogSearch::over_bounds(9, 10),
-                with_std: true,
-                ..FitRequest::damping(current, damp, &engine.all)
-            });
-            // Small models: also from the resonance-frequency stage, which
-            // finds the basin a coarse grid on the FRF misfit can miss.
-            let seeded = if large || h.param.is_none() {
-                None
-            } else {
-                frequency_seeded(engine, current, &h, damp, grid.as_ref())
-            };
-            match (grid, seeded) {
-                (Some(g), Some(f)) if f.cost < g.cost => Some((h, f)),
-                (None, Some(f)) => Some((h, f)),
-                (g, _) => g.map(|g| (h, g)),
-            }
-        })
-        .collect();
-    fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
-    let base_cost = fit::mean_sq(&r0).min(
-        engine
-            .fit(&FitRequest::damping(current, damp, &engine.all))
-            .map_or(f64::INFINITY, |f| f.cost),
-    );
-    // The deck's own parameters may have absorbed part of the missing
-    // effect in the update: the best candidates are fitted again with them
-    // free (small models with a few parameters).
-    let np = current.params.len();
-    if !large && (1..=6).contains(&np) {
-        for (h, f) in fitted.iter_mut().take(3) {
-            if h.param.is_none() {
-                continue;
-            }
-            let problem = refit::Joint::with_deck_parameters(current, vec![&*h]);
-            if let Some(g) = frequency_seeded_with(engine, &problem, damp, Some(f)) {
-                if g.cost < f.cost {
-                    *f = g;
-                }
-            }
-        }
-        fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
-    }
-    let mut validated = Vec::new();
-    for (h, f) in fitted.iter().take(5) {
-        if !(f.cost < base_cost * 0.97) {
-            continue;
-        }
-        let v = if f.deck_values.is_empty() {
-            engine.validate(Some(h), current, f)
-        } else {
-            let problem = refit::Joint::with_deck_parameters(current, vec![h]);
-            let mut x = vec![f.log_value.unwrap_or(0.0)];
-            x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
-            let jf = refit::JointFit {
-                logs: vec![x[0]],
-                deck_values: f.deck_values.clone(),
-                x,
-                damping: f.damping.clone(),
-                cost: f.cost,
-                std_log: vec![],
-                on_bound: vec![],
-            };
-            refit::validate_joint(engine, &problem, &jf)
-        };
-        validated.push((h.clone(), f.clone(), v));
-    }
-    Ok(Round {
-        validated,
-        fitted,
-        localisation,
-        large,
-    })
-}
-
-/// A one-parameter fit of `h` through [`refit::fit_joint`]: 7 starts across
-/// its bounds (and the grid fit's optimum), resonance-frequency stage, then
-/// the FRFs.
-fn frequency_seeded(
-    engine: &Engine,
-    current: &Deck,
-    h: &Hypothesis,
-    damp: &DampingState,
-    grid: Option<&HypFit>,
-) -> Option<HypFit> {
-    frequency_seeded_with(engine, &refit::Joint::new(current, vec![h]), damp, grid)
-}
-
-/// As [`frequency_seeded`] for a one-extension problem that may fit the
-/// deck's parameters along (they start at 0).
-fn frequency_seeded_with(
-    engine: &Engine,
-    problem: &refit::Joint,
-    damp: &DampingState,
-    grid: Option<&HypFit>,
-) -> Option<HypFit> {
-    let (lo, hi) = problem.bounds();
-    let np = problem.deck_params.len();
-    let mut fixed = vec![None];
-    fixed.extend(std::iter::repeat_n(Some(0.0), np));
-    let mut starts = refit::grid_starts(&lo, &hi, &fixed, 7);
-    if let Some(s) = grid.and_then(|g| g.log_value) {
-        let mut x = vec![s];
-        x.extend(std::iter::repeat_n(0.0, np));
-        starts.push(x);
-    }
-    let settings = refit::JointSettings {
-        frequency_stage: true,
-        iterations: 10,
-    };
-    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)?;
-    let value = jf.logs[0].exp();
-    Some(HypFit {
-        value: Some(value),
-        log_value: Some(jf.logs[0]),
-        damping: jf.damping.clone(),
-        cost: jf.cost,
-        std: Some(jf.std_log[0] * value),
-        damping_std_log: vec![],
-        on_bound: jf.on_bound[0],
-        deck_values: jf.deck_values.clone(),
-    })
-}
-
 /// Fit quality of `deck` with damping `damp` (damping refitted first).
 fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuality, DiagnoseError> {
     let data = engine.data;
@@ -639,6 +308,8 @@ fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuali
             f64::NAN
         },
         damping: describe_damping(d.damping()),
+        damping_model: d.damping(),
+        frfs: pred,
     })
 }
 

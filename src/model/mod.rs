@@ -128,6 +128,23 @@ impl Damping {
             Some(DampingModel::Hysteretic { eta }) => Damping::Hysteretic { eta },
         }
     }
+
+    /// d_r(ω) of a mass-normalised mode in the modal FRF
+    /// H_jk(ω) = Σ_r φ_jr φ_kr / d_r(ω): d_r = ω_r² − ω² + i c_r(ω) with
+    /// c_r = 0 (none), 2ζω_rω (modal), ω(α + βω_r²) (Rayleigh, C = αM + βK)
+    /// or ηω_r² (hysteretic, K(1 + iη)); `omega2` = ω_r² (rad²/s²), `omega`
+    /// = ω (rad/s). A slightly negative ω_r² (round-off of a rigid-body
+    /// mode) counts as 0 in c_r, so damping never changes sign.
+    pub fn modal_denominator(self, omega2: f64, omega: f64) -> faer::c64 {
+        let w2 = omega2.max(0.0);
+        let c = match self {
+            Damping::None => 0.0,
+            Damping::Modal { zeta } => 2.0 * zeta * w2.sqrt() * omega,
+            Damping::Rayleigh { alpha, beta } => omega * (alpha + beta * w2),
+            Damping::Hysteretic { eta } => w2 * eta,
+        };
+        faer::c64::new(omega2 - omega * omega, c)
+    }
 }
 
 /// A number with four significant digits (plain, or in `e` notation outside
@@ -227,5 +244,49 @@ impl FeModel {
         let node = self.sensors.get(&test_node).copied().unwrap_or(test_node);
         let (dof, sign) = Dof::from_uff_code(uff_direction)?;
         Some((self.dofs.index(node, dof)?, sign))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Damping;
+    use faer::c64;
+
+    /// d_r(ω) of a unit-mass oscillator with stiffness k = ω_r² is its
+    /// dynamic stiffness k − ω² + iω c (viscous, c = 2ζω_r or α + βk) or
+    /// k(1 + iη) − ω² (hysteretic), written out here independently.
+    #[test]
+    fn modal_denominator_is_the_oscillators_dynamic_stiffness() {
+        let (k, w) = (400.0_f64, 17.0_f64);
+        let cases = [
+            (Damping::None, c64::new(k - w * w, 0.0)),
+            (
+                Damping::Modal { zeta: 0.02 },
+                c64::new(k - w * w, 0.0) + c64::new(0.0, w) * (2.0 * 0.02 * 20.0),
+            ),
+            (
+                Damping::Rayleigh {
+                    alpha: 0.3,
+                    beta: 1e-4,
+                },
+                c64::new(k - w * w, 0.0) + c64::new(0.0, w) * (0.3 + 1e-4 * k),
+            ),
+            (
+                Damping::Hysteretic { eta: 0.05 },
+                c64::new(k, 0.0) * c64::new(1.0, 0.05) - w * w,
+            ),
+        ];
+        for (damping, expected) in cases {
+            let d = damping.modal_denominator(k, w);
+            assert!(
+                (d - expected).norm() <= 1e-13 * k,
+                "{damping:?}: {d} vs {expected}"
+            );
+        }
+        // A rigid-body mode's round-off (ω_r² slightly below 0) adds no
+        // negative damping.
+        let d = Damping::Hysteretic { eta: 0.05 }.modal_denominator(-1e-9, w);
+        assert_eq!(d.im, 0.0);
+        assert_eq!(d.re, -1e-9 - w * w);
     }
 }

@@ -1,15 +1,7 @@
-//! From an [`UpdateResult`] (+ deck + test data) to the plain data of the
-//! charts: the initial and updated model FRFs at the measured DOFs, the MAC of
-//! the test deflection shapes against the FE modes, and the chart structs.
-//!
-//! Model FRFs: the model is built at p̄ = 0 and at the returned p̄, its modes
-//! are computed up to at least twice the highest measured line, and the
-//! receptance at the measured DOFs for the excitation DOF is summed over the
-//! modes with a static residual for the modes left out. Damping: each FE
-//! mode paired with a test resonance gets that resonance's half-power ζ, the
-//! other modes the median measured ζ; without any half-power estimate the
-//! deck's damping is used (direct solve), else ζ = 1 %. The result is then
-//! converted to the measured FRF kind (× (iω)ⁿ).
+//! From an [`UpdateResult`] and its [`ModelStates`] (the initial and updated
+//! models evaluated by `updating::model_states`) to the plain data of the
+//! charts: the FRF overlay in the measured FRF kind, the MAC of the test
+//! deflection shapes against the FE modes, and the chart structs.
 
 use num_complex::Complex64;
 
@@ -20,17 +12,12 @@ use super::charts::{
     NamedSeries, ResonanceMark, SfdacChart,
 };
 use super::output::frequency_rows;
-use crate::model::{self, Damping, FeModel, ParameterValues};
-use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
-use crate::solvers::frf;
 use crate::testdata::{FrfKind, MeasuredFrfs};
 use crate::updating::measured::MeasuredDofs;
+use crate::updating::model_states::{nearest, ModelStates, ModelView};
 use crate::updating::{mac, ModePair, UpdateResult};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
-
-/// Damping used for the model FRFs when nothing was measured or given.
-pub const DEFAULT_ZETA: f64 = 0.01;
 
 /// Names and context of a report that the result does not carry.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -46,21 +33,6 @@ pub struct ReportInputs {
     /// What the readers noticed in the inputs (data skipped or doubtful),
     /// shown under Warnings.
     pub input_notes: Vec<String>,
-}
-
-/// One model (initial or updated) evaluated for the report.
-#[derive(Clone, Debug, Default)]
-pub struct ModelView {
-    /// e.g. "initial model (p̄ = 0)".
-    pub label: String,
-    /// Receptance (m/N, FE DOF sense) [measured DOF][line]; NaN if it failed.
-    pub receptance: Vec<Vec<Complex64>>,
-    /// Natural frequencies (Hz) of the computed modes.
-    pub modes_hz: Vec<f64>,
-    /// Mode shapes at the measured DOFs, [mode][measured DOF].
-    pub shapes: Vec<Vec<f64>>,
-    /// Why the FRFs or modes are missing, if they are.
-    pub error: Option<String>,
 }
 
 /// Everything the report shows beyond the [`UpdateResult`] itself.
@@ -87,259 +59,6 @@ pub struct ReportData {
     pub notes: Vec<String>,
 }
 
-/// How the model FRFs are damped.
-#[derive(Clone, Debug, PartialEq)]
-enum DampingChoice {
-    /// ζ per test resonance (half-power), and ζ for unpaired modes.
-    Measured {
-        by_resonance: Vec<Option<f64>>,
-        other: f64,
-    },
-    /// The deck's own damping (direct solve).
-    Deck(Damping),
-    /// No information: one ζ for every mode.
-    Uniform(f64),
-}
-
-impl DampingChoice {
-    fn describe(&self) -> String {
-        match self {
-            DampingChoice::Measured { other, .. } => format!(
-                "modal, ζ of each paired mode from the half-power bandwidth of its test resonance; other modes ζ = {:.3} % (median)",
-                100.0 * other
-            ),
-            DampingChoice::Deck(d) => format!("the deck's damping ({})", damping_name(d)),
-            DampingChoice::Uniform(z) => format!("modal ζ = {:.3} % for every mode (no measured or deck damping)", 100.0 * z),
-        }
-    }
-}
-
-/// A short description of a deck damping model.
-pub fn damping_name(d: &Damping) -> String {
-    match d {
-        Damping::None => "none".into(),
-        Damping::Modal { zeta } => format!("modal ζ = {zeta}"),
-        Damping::Rayleigh { alpha, beta } => format!("Rayleigh α = {alpha}, β = {beta}"),
-        Damping::Hysteretic { eta } => format!("hysteretic η = {eta}"),
-    }
-}
-
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    v.retain(|x| x.is_finite());
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    Some(if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    })
-}
-
-fn choose_damping(result: &UpdateResult, deck_damping: Damping) -> DampingChoice {
-    let by_resonance: Vec<Option<f64>> = result
-        .resonances
-        .iter()
-        .map(|r| r.damping_ratio.filter(|z| z.is_finite() && *z > 0.0))
-        .collect();
-    match median(by_resonance.iter().flatten().copied().collect()) {
-        Some(other) => DampingChoice::Measured {
-            by_resonance,
-            other,
-        },
-        None if deck_damping != Damping::None => DampingChoice::Deck(deck_damping),
-        None => DampingChoice::Uniform(DEFAULT_ZETA),
-    }
-}
-
-/// The lowest modes up to at least `2 f_max` (or all of them).
-fn modes_covering(model: &FeModel, f_max: f64, start: usize) -> Result<Modes, String> {
-    let n = model.dofs.len();
-    if n == 0 {
-        return Err("the model has no free DOF".into());
-    }
-    let mut count = start.clamp(1, n);
-    loop {
-        let opts = EigenOptions {
-            count,
-            expect_no_rigid_body_modes: model.has_fixed_dofs,
-            ..EigenOptions::default()
-        };
-        let modes =
-            lowest_modes(&model.stiffness, &model.mass, &opts).map_err(|e| e.to_string())?;
-        let top = modes.frequencies_hz().last().copied().unwrap_or(0.0);
-        if count >= n || top >= 2.0 * f_max {
-            return Ok(modes);
-        }
-        count = (2 * count).min(n);
-    }
-}
-
-/// Evaluate `model` at the measured DOFs.
-fn view(
-    label: &str,
-    model: Result<FeModel, String>,
-    meas: &MeasuredDofs,
-    choice: &DampingChoice,
-    pairs: &[Option<ModePair>],
-    start_modes: usize,
-) -> ModelView {
-    let lines = meas.lines_hz.len();
-    let nan = vec![vec![Complex64::new(f64::NAN, f64::NAN); lines]; meas.len()];
-    let fail = |e: String| ModelView {
-        label: label.to_string(),
-        receptance: nan.clone(),
-        error: Some(e),
-        ..ModelView::default()
-    };
-    let model = match model {
-        Ok(m) => m,
-        Err(e) => return fail(e),
-    };
-    let f_max = meas
-        .lines_hz
-        .iter()
-        .copied()
-        .filter(|f| f.is_finite())
-        .fold(0.0, f64::max);
-    let modes = match modes_covering(&model, f_max, start_modes) {
-        Ok(m) => m,
-        Err(e) => return fail(format!("modes: {e}")),
-    };
-    let modes_hz = modes.frequencies_hz();
-    let shapes: Vec<Vec<f64>> = (0..modes.len())
-        .map(|r| {
-            meas.equations
-                .iter()
-                .map(|&j| modes.shapes[(j, r)])
-                .collect()
-        })
-        .collect();
-    let input = meas.equations[meas.excitation_row];
-    let omegas: Vec<f64> = meas.lines_hz.iter().map(|f| TWO_PI * f).collect();
-    let (receptance, error) = match choice {
-        DampingChoice::Deck(d) => {
-            match frf::try_direct_receptance(
-                &model.stiffness,
-                &model.mass,
-                *d,
-                &omegas,
-                input,
-                &meas.equations,
-            ) {
-                Ok(h) => (
-                    (0..meas.len())
-                        .map(|i| (0..lines).map(|l| h[(i, l)]).collect())
-                        .collect(),
-                    None,
-                ),
-                Err(e) => (nan.clone(), Some(format!("FRFs: {e}"))),
-            }
-        }
-        _ => {
-            let zetas = mode_zetas(choice, &modes_hz, pairs);
-            let (residual, error) = match frf::static_residual(
-                &model.stiffness,
-                &model.mass,
-                &modes,
-                input,
-                &meas.equations,
-            ) {
-                Ok(r) => (r, None),
-                Err(e) => (
-                    vec![0.0; meas.len()],
-                    Some(format!("static residual left out: {e}")),
-                ),
-            };
-            (
-                modal_sum(&modes, &zetas, &omegas, input, &meas.equations, &residual),
-                error,
-            )
-        }
-    };
-    ModelView {
-        label: label.to_string(),
-        receptance,
-        modes_hz,
-        shapes,
-        error,
-    }
-}
-
-/// ζ of each computed mode under `choice` (modes matched to pairs by frequency).
-fn mode_zetas(choice: &DampingChoice, modes_hz: &[f64], pairs: &[Option<ModePair>]) -> Vec<f64> {
-    match choice {
-        DampingChoice::Measured {
-            by_resonance,
-            other,
-        } => {
-            let mut z = vec![*other; modes_hz.len()];
-            for p in pairs.iter().flatten() {
-                if let (Some(r), Some(Some(zeta))) =
-                    (nearest(modes_hz, p.fe_hz), by_resonance.get(p.test))
-                {
-                    z[r] = *zeta;
-                }
-            }
-            z
-        }
-        DampingChoice::Uniform(zeta) => vec![*zeta; modes_hz.len()],
-        DampingChoice::Deck(_) => vec![DEFAULT_ZETA; modes_hz.len()],
-    }
-}
-
-/// Index of the value of `hz` within 0.01 % of `f`.
-fn nearest(hz: &[f64], f: f64) -> Option<usize> {
-    let (i, d) = hz
-        .iter()
-        .enumerate()
-        .map(|(i, h)| (i, (h - f).abs()))
-        .min_by(|a, b| a.1.total_cmp(&b.1))?;
-    (d <= 1e-4 * f.abs().max(1e-9)).then_some(i)
-}
-
-/// H_j(ω) = Σ_r φ_jr φ_kr / (ω_r² − ω² + 2iζ_r ω_r ω) + R_j.
-fn modal_sum(
-    modes: &Modes,
-    zetas: &[f64],
-    omegas: &[f64],
-    input: usize,
-    outputs: &[usize],
-    residual: &[f64],
-) -> Vec<Vec<Complex64>> {
-    outputs
-        .iter()
-        .enumerate()
-        .map(|(o, &j)| {
-            omegas
-                .iter()
-                .map(|&w| {
-                    let mut h = Complex64::new(residual.get(o).copied().unwrap_or(0.0), 0.0);
-                    for (r, (&omega2, &zeta)) in modes.omega2.iter().zip(zetas).enumerate() {
-                        let w2 = omega2.max(0.0);
-                        let wr = w2.sqrt();
-                        let d = Complex64::new(w2 - w * w, 2.0 * zeta * wr * w);
-                        h += modes.shapes[(j, r)] * modes.shapes[(input, r)] / d;
-                    }
-                    h
-                })
-                .collect()
-        })
-        .collect()
-}
-
-/// (iω)ⁿ that turns receptance into `kind`.
-fn to_kind(h: Complex64, omega: f64, kind: FrfKind) -> Complex64 {
-    let iw = Complex64::new(0.0, omega);
-    match kind.order() {
-        0 => h,
-        1 => h * iw,
-        _ => h * iw * iw,
-    }
-}
-
 /// Units with superscripts for display.
 pub fn pretty_units(kind: FrfKind) -> &'static str {
     match kind {
@@ -357,11 +76,11 @@ fn hz(f: f64) -> String {
 /// Build the report data. Never fails: problems become [`ReportData::notes`].
 pub fn report_data(
     result: &UpdateResult,
+    states: &ModelStates,
     deck: &Deck,
     test: &MeasuredFrfs,
     inputs: &ReportInputs,
 ) -> ReportData {
-    let mut notes = Vec::new();
     let title = inputs
         .title
         .clone()
@@ -371,73 +90,16 @@ pub fn report_data(
         })
         .unwrap_or_else(|| "FRF model updating".to_string());
 
-    let model0 = model::build(deck, &ParameterValues::new()).map_err(|e| e.to_string());
-    let model_dofs = model0.as_ref().map(|m| m.dofs.len()).unwrap_or(0);
-    let deck_damping = model0.as_ref().map(|m| m.damping).unwrap_or_default();
-    let mut ignored = Vec::new();
-    let meas = match &model0 {
-        Ok(m) => match MeasuredDofs::new(m, test, &mut ignored) {
-            Ok(meas) => Some(meas),
-            Err(e) => {
-                notes.push(format!("the test data do not map onto the model: {e}"));
-                None
-            }
-        },
-        Err(e) => {
-            notes.push(format!("the initial model could not be built: {e}"));
-            None
-        }
-    };
-    let choice = choose_damping(result, deck_damping);
-    let start_modes = result
-        .iterations
-        .first()
-        .map(|r| r.fe_frequencies_hz.len())
-        .unwrap_or(0)
-        .max(20);
-    let first_pairs = result
-        .iterations
-        .first()
-        .map(|r| r.pairs.clone())
-        .unwrap_or_default();
-    let last_pairs = result
-        .iterations
-        .get(result.final_iteration)
-        .map(|r| r.pairs.clone())
-        .unwrap_or_default();
-    let (initial, updated) = match &meas {
-        Some(meas) => {
-            let initial = view(
-                "initial model",
-                model0,
-                meas,
-                &choice,
-                &first_pairs,
-                start_modes,
-            );
-            let updated_model = if result.iterations.get(result.final_iteration).is_none() {
-                Err("no returned iteration".to_string())
-            } else {
-                model::build(deck, &result.parameter_values()).map_err(|e| e.to_string())
-            };
-            let updated = view(
-                "updated model",
-                updated_model,
-                meas,
-                &choice,
-                &last_pairs,
-                start_modes,
-            );
-            (initial, updated)
-        }
-        None => (ModelView::default(), ModelView::default()),
-    };
-    for v in [&initial, &updated] {
-        if let Some(e) = &v.error {
-            notes.push(format!("{}: {e}", v.label));
-        }
-    }
-
+    let ModelStates {
+        measured: meas,
+        model_dofs,
+        damping,
+        initial,
+        updated,
+        first_pairs,
+        last_pairs,
+        notes,
+    } = states.clone();
     let kind = test.kind;
     let frf = frf_overlay(result, meas.as_ref(), kind, &initial, &updated, &title);
     ReportData {
@@ -460,7 +122,7 @@ pub fn report_data(
             .map(|m| m.excitation_label.clone())
             .unwrap_or_else(|| result.excitation.clone()),
         model_dofs,
-        damping: choice.describe(),
+        damping: damping.describe(),
         initial,
         updated,
         notes,
@@ -582,7 +244,7 @@ fn frf_overlay(
     let convert = |h: &[Complex64]| -> Vec<Complex64> {
         h.iter()
             .zip(&omegas)
-            .map(|(&v, &w)| to_kind(v, w, kind))
+            .map(|(&v, &w)| v * kind.from_receptance(w))
             .collect()
     };
     let empty = vec![Complex64::new(f64::NAN, f64::NAN); meas.lines_hz.len()];
@@ -731,31 +393,11 @@ mod tests {
     use super::*;
 
     #[test]
-    fn median_and_nearest() {
-        assert_eq!(median(vec![3.0, f64::NAN, 1.0, 2.0]), Some(2.0));
-        assert_eq!(median(vec![1.0, 2.0]), Some(1.5));
-        assert_eq!(median(vec![]), None);
-        assert_eq!(nearest(&[1.0, 2.0, 3.0], 2.0000001), Some(1));
-        assert_eq!(nearest(&[1.0, 2.0], 2.5), None);
-        assert_eq!(nearest(&[], 2.5), None);
-    }
-
-    #[test]
     fn mac_columns_keep_band_and_pairs() {
         let hz: Vec<f64> = (0..100).map(|i| i as f64).collect();
         let lines = [0.0, 10.0, 20.0];
         let c = mac_columns(&hz, &lines, &[50]);
         assert_eq!(c.first(), Some(&5));
         assert!(c.contains(&23) && !c.contains(&24) && c.contains(&50));
-    }
-
-    #[test]
-    fn kinds() {
-        let h = Complex64::new(1.0, 0.0);
-        assert_eq!(
-            to_kind(h, 2.0, FrfKind::Accelerance),
-            Complex64::new(-4.0, 0.0)
-        );
-        assert_eq!(to_kind(h, 2.0, FrfKind::Mobility), Complex64::new(0.0, 2.0));
     }
 }

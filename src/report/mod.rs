@@ -31,6 +31,7 @@ pub use data::{report_data, ReportData, ReportInputs};
 
 use crate::fsio::write_atomic;
 use crate::testdata::MeasuredFrfs;
+use crate::updating::model_states::ModelStates;
 use crate::updating::UpdateResult;
 
 /// Folder (inside the report folder) of the per-channel FRF charts.
@@ -92,11 +93,12 @@ fn chart(file: &str, r: Result<String, ChartError>) -> Result<String, ReportErro
 /// Render every report file in memory (no I/O).
 pub fn render_report(
     result: &UpdateResult,
+    states: &ModelStates,
     deck: &Deck,
     test: &MeasuredFrfs,
     inputs: &ReportInputs,
 ) -> Result<RenderedReport, ReportError> {
-    let data = report_data(result, deck, test, inputs);
+    let data = report_data(result, states, deck, test, inputs);
     let mut embedded = html::EmbeddedCharts {
         convergence: chart(
             "convergence.svg",
@@ -177,11 +179,12 @@ pub fn render_report(
 pub fn write_report(
     dir: &Path,
     result: &UpdateResult,
+    states: &ModelStates,
     deck: &Deck,
     test: &MeasuredFrfs,
     inputs: &ReportInputs,
 ) -> Result<Vec<PathBuf>, ReportError> {
-    let rendered = render_report(result, deck, test, inputs)?;
+    let rendered = render_report(result, states, deck, test, inputs)?;
     let frf_dir = dir.join(FRF_DIR);
     std::fs::create_dir_all(&frf_dir).map_err(|source| ReportError::Io {
         path: frf_dir.clone(),

@@ -14,6 +14,7 @@ use std::path::Path;
 use frfup_parsers::deck::{self, Deck};
 use serde_json::{json, Map, Value};
 
+use super::tables::csv_text;
 use crate::fsio::write_atomic;
 use crate::model;
 use crate::updating::{IterationRecord, UpdateResult};
@@ -149,10 +150,6 @@ pub fn report_json(result: &UpdateResult) -> Value {
         None => Value::Null,
     };
     let o = &result.options;
-    let (inverse, perturbation) = match o.inverse {
-        crate::updating::InverseMethod::Svd => ("svd", Value::Null),
-        crate::updating::InverseMethod::Perturb { relative } => ("perturb", json!(relative)),
-    };
     let estimate = result.estimate.as_ref();
     json!({
         "converged": result.converged,
@@ -206,89 +203,84 @@ pub fn report_json(result: &UpdateResult) -> Value {
         "excitation": result.excitation,
         "modes": result.modes,
         "warnings": result.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
-        "options": {
-            "modes": o.modes,
-            "resonances": o.resonances,
-            "offset": o.offset,
-            "freqs": o.frequencies_hz,
-            "with_frequencies": o.with_frequencies,
-            "frequencies_first": o.frequencies_first,
-            "weighting": o.weighting.name(),
-            "inverse": inverse,
-            "perturbation": perturbation,
-            "svd_eps": o.svd_eps,
-            "damping": o.damping,
-            "tol": o.tol,
-            "max_iter": o.max_iter,
-            "basis_tolerance": o.basis_tolerance,
-            "resonance_method": o.resonance_method.name(),
-            "min_prominence": o.min_prominence,
-            "mac_min": o.mac_min,
-            "max_parameter": o.max_parameter,
-        },
+        // Every field of UpdateOptions but the method (above): one definition.
+        "options": serde_json::to_value(o).unwrap_or_default(),
     })
 }
 
 /// `parameters.csv`: iteration, p̄ per parameter, SFDAC mean and min.
 pub fn parameters_csv(result: &UpdateResult) -> String {
-    let mut s = String::from("iteration");
-    for n in &result.parameter_names {
-        s.push(',');
-        s.push_str(&csv_field(n));
-    }
-    s.push_str(",sfdac_mean,sfdac_min\n");
-    for r in &result.iterations {
-        let _ = write!(s, "{}", r.index);
-        for p in &r.parameters {
-            let _ = write!(s, ",{p:.6e}");
-        }
-        let _ = writeln!(s, ",{:.6},{:.6}", r.sfdac.mean, r.sfdac.min);
-    }
-    s
+    let header = std::iter::once("iteration".to_string())
+        .chain(result.parameter_names.iter().cloned())
+        .chain(["sfdac_mean".into(), "sfdac_min".into()]);
+    let rows = result.iterations.iter().map(|r| {
+        std::iter::once(r.index.to_string())
+            .chain(r.parameters.iter().map(|p| format!("{p:.6e}")))
+            .chain([
+                format!("{:.6}", r.sfdac.mean),
+                format!("{:.6}", r.sfdac.min),
+            ])
+            .collect::<Vec<_>>()
+    });
+    csv_text(std::iter::once(header.collect()).chain(rows))
 }
 
 /// `frequencies.csv`: Table 3 / Table 7 layout.
 pub fn frequencies_csv(result: &UpdateResult) -> String {
     let rows = frequency_rows(result);
-    let mut s = String::from("mode,test_hz,initial_hz,initial_dev_pct,updated_hz,updated_dev_pct,initial_mac,updated_mac\n");
+    let header = "mode,test_hz,initial_hz,initial_dev_pct,updated_hz,updated_dev_pct,initial_mac,updated_mac";
     let cell = |x: Option<(f64, f64)>, t: f64| match x {
-        Some((f, _)) => (format!("{f:.4}"), format!("{:.3}", dev_pct(f, t))),
-        None => (String::new(), String::new()),
+        Some((f, _)) => [format!("{f:.4}"), format!("{:.3}", dev_pct(f, t))],
+        None => [String::new(), String::new()],
     };
     let mac = |x: Option<(f64, f64)>| x.map(|v| format!("{:.4}", v.1)).unwrap_or_default();
-    for (i, r) in rows.iter().enumerate() {
-        let (fi, di) = cell(r.initial, r.test_hz);
-        let (fu, du) = cell(r.updated, r.test_hz);
-        let _ = writeln!(
-            s,
-            "{},{:.4},{fi},{di},{fu},{du},{},{}",
-            i + 1,
-            r.test_hz,
+    let body = rows.iter().enumerate().map(|(i, r)| {
+        let [fi, di] = cell(r.initial, r.test_hz);
+        let [fu, du] = cell(r.updated, r.test_hz);
+        let test = format!("{:.4}", r.test_hz);
+        vec![
+            (i + 1).to_string(),
+            test,
+            fi,
+            di,
+            fu,
+            du,
             mac(r.initial),
-            mac(r.updated)
-        );
-    }
+            mac(r.updated),
+        ]
+    });
     let m = |x: Option<f64>| x.map(|v| format!("{v:.3}")).unwrap_or_default();
-    let _ = writeln!(
-        s,
-        "mean_abs,,,{},,{},,",
-        m(mean_abs_dev(&rows, false)),
-        m(mean_abs_dev(&rows, true))
-    );
-    s
+    let (before, after) = (m(mean_abs_dev(&rows, false)), m(mean_abs_dev(&rows, true)));
+    let mean = ["mean_abs", "", "", &before, "", &after, "", ""].map(String::from);
+    csv_text(
+        std::iter::once(header.split(',').map(String::from).collect())
+            .chain(body)
+            .chain([mean.to_vec()]),
+    )
 }
 
 /// `sfdac.csv`: SFDAC_i of the initial and the returned model (Table 6).
 pub fn sfdac_csv(result: &UpdateResult) -> String {
     let first = &result.iterations[0].sfdac;
     let last = &result.final_record().sfdac;
-    let mut s = String::from("frequency_hz,initial,updated\n");
-    for (i, f) in result.updating_frequencies.hz().iter().enumerate() {
-        let _ = writeln!(s, "{f:.4},{:.6},{:.6}", first.values[i], last.values[i]);
-    }
-    let _ = writeln!(s, "mean,{:.6},{:.6}", first.mean, last.mean);
-    let _ = writeln!(s, "min,{:.6},{:.6}", first.min, last.min);
-    s
+    let row = |label: String, a: f64, b: f64| vec![label, format!("{a:.6}"), format!("{b:.6}")];
+    let hz = result.updating_frequencies.hz();
+    let body = hz
+        .iter()
+        .enumerate()
+        .map(|(i, f)| row(format!("{f:.4}"), first.values[i], last.values[i]));
+    csv_text(
+        std::iter::once(
+            ["frequency_hz", "initial", "updated"]
+                .map(String::from)
+                .to_vec(),
+        )
+        .chain(body)
+        .chain([
+            row("mean".into(), first.mean, last.mean),
+            row("min".into(), first.min, last.min),
+        ]),
+    )
 }
 
 /// `report.md`: a short summary for people.
@@ -454,31 +446,21 @@ pub fn report_md_with_notes(result: &UpdateResult, deck: &Deck, notes: &[String]
     s
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
-    }
-}
-
 /// `estimates.csv`: the full-band estimate of each parameter with its
 /// uncertainty, bounds and prior.
 fn estimates_csv(est: &crate::updating::fullband::estimate::FullBandEstimate) -> String {
-    let mut s = String::from("parameter,value,sd,identified,at_bound,min,max,prior_sd\n");
-    for p in &est.parameters {
-        let _ = writeln!(
-            s,
-            "{},{:e},{:e},{},{},{:e},{:e},{}",
-            p.name,
-            p.value,
-            p.sd,
-            p.identified,
-            p.at_bound,
-            p.prior.min,
-            p.prior.max,
-            p.prior.sd.map(|v| format!("{v:e}")).unwrap_or_default()
-        );
-    }
-    s
+    let header = "parameter,value,sd,identified,at_bound,min,max,prior_sd";
+    let rows = est.parameters.iter().map(|p| {
+        vec![
+            p.name.clone(),
+            format!("{:e}", p.value),
+            format!("{:e}", p.sd),
+            p.identified.to_string(),
+            p.at_bound.to_string(),
+            format!("{:e}", p.prior.min),
+            format!("{:e}", p.prior.max),
+            p.prior.sd.map(|v| format!("{v:e}")).unwrap_or_default(),
+        ]
+    });
+    csv_text(std::iter::once(header.split(',').map(String::from).collect()).chain(rows))
 }

@@ -8,8 +8,6 @@
 //! * `mac.csv`: the MAC matrices of the report (long format);
 //! * `frf.csv`: measured, initial and updated FRFs (long format).
 
-use std::fmt::Write as _;
-
 use super::data::ReportData;
 use crate::updating::frequencies::FrequencySource;
 use crate::updating::UpdateResult;
@@ -30,70 +28,76 @@ fn f6(v: f64) -> String {
     num(v, |x| format!("{x:.6}"))
 }
 
-/// A CSV field, quoted when needed.
-pub fn field(s: &str) -> String {
-    if s.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
+/// CSV text of `rows` (the header first), each field quoted where it needs
+/// to be by the `csv` crate; lines end in `\n`.
+pub fn csv_text<R, F>(rows: R) -> String
+where
+    R: IntoIterator,
+    R::Item: IntoIterator<Item = F>,
+    F: AsRef<[u8]>,
+{
+    let mut w = csv::WriterBuilder::new()
+        .flexible(true)
+        .from_writer(Vec::new());
+    for row in rows {
+        // Writing to memory cannot fail.
+        let _ = w.write_record(row);
     }
+    String::from_utf8(w.into_inner().unwrap_or_default()).unwrap_or_default()
+}
+
+fn header(names: &str) -> Vec<String> {
+    names.split(',').map(String::from).collect()
 }
 
 /// `iterations.csv`.
 pub fn iterations_csv(result: &UpdateResult) -> String {
-    let mut s = String::from(
-        "iteration,rank,step_scale,max_abs_step,sfdac_mean,sfdac_min,basis_modes,returned",
-    );
-    for n in &result.parameter_names {
-        s.push(',');
-        s.push_str(&field(&format!("step_{n}")));
-    }
-    s.push('\n');
-    for (i, r) in result.iterations.iter().enumerate() {
+    let head =
+        header("iteration,rank,step_scale,max_abs_step,sfdac_mean,sfdac_min,basis_modes,returned")
+            .into_iter()
+            .chain(result.parameter_names.iter().map(|n| format!("step_{n}")));
+    let rows = result.iterations.iter().enumerate().map(|(i, r)| {
         let max_step = r.step.iter().fold(0.0f64, |m, p| m.max(p.abs()));
-        let _ = write!(
-            s,
-            "{},{},{},{},{},{},{},{}",
-            r.index,
-            r.rank,
+        [
+            r.index.to_string(),
+            r.rank.to_string(),
             f6(r.step_scale),
             e6(max_step),
             f6(r.sfdac.mean),
             f6(r.sfdac.min),
-            r.basis_modes.len(),
-            i == result.final_iteration
-        );
-        for p in &r.step {
-            s.push(',');
-            s.push_str(&e6(*p));
-        }
-        s.push('\n');
-    }
-    s
+            r.basis_modes.len().to_string(),
+            (i == result.final_iteration).to_string(),
+        ]
+        .into_iter()
+        .chain(r.step.iter().map(|p| e6(*p)))
+        .collect::<Vec<_>>()
+    });
+    csv_text(std::iter::once(head.collect()).chain(rows))
 }
 
 /// `resonances.csv`.
 pub fn resonances_csv(result: &UpdateResult) -> String {
-    let mut s = String::from("resonance,frequency_hz,damping_ratio,prominence,line,used\n");
-    for (i, r) in result.resonances.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{}",
-            i + 1,
+    let rows = result.resonances.iter().enumerate().map(|(i, r)| {
+        vec![
+            (i + 1).to_string(),
             f6(r.frequency_hz),
             r.damping_ratio.map(f6).unwrap_or_default(),
             f6(r.prominence),
-            r.line,
-            i < result.resonances_used
-        );
-    }
-    s
+            r.line.to_string(),
+            (i < result.resonances_used).to_string(),
+        ]
+    });
+    csv_text(
+        std::iter::once(header(
+            "resonance,frequency_hz,damping_ratio,prominence,line,used",
+        ))
+        .chain(rows),
+    )
 }
 
 /// `updating-frequencies.csv`.
 pub fn updating_frequencies_csv(result: &UpdateResult) -> String {
-    let mut s = String::from("frequency_hz,requested_hz,line,source,status,reason\n");
-    for u in &result.updating_frequencies.frequencies {
+    let used = result.updating_frequencies.frequencies.iter().map(|u| {
         let source = match u.source {
             FrequencySource::Resonance { resonance, side } => {
                 format!(
@@ -104,41 +108,57 @@ pub fn updating_frequencies_csv(result: &UpdateResult) -> String {
             }
             FrequencySource::Explicit => "explicit".to_string(),
         };
-        let _ = writeln!(
-            s,
-            "{},{},{},{},used,",
-            f6(u.hz),
-            f6(u.requested_hz),
-            u.line,
-            source
-        );
-    }
-    for k in &result.updating_frequencies.skipped {
-        let _ = writeln!(s, ",{},,,skipped,{}", f6(k.requested_hz), field(&k.reason));
-    }
-    s
+        let (hz, requested) = (f6(u.hz), f6(u.requested_hz));
+        vec![
+            hz,
+            requested,
+            u.line.to_string(),
+            source,
+            "used".into(),
+            String::new(),
+        ]
+    });
+    let skipped = result.updating_frequencies.skipped.iter().map(|k| {
+        let requested = f6(k.requested_hz);
+        let reason = k.reason.clone();
+        vec![
+            String::new(),
+            requested,
+            String::new(),
+            String::new(),
+            "skipped".into(),
+            reason,
+        ]
+    });
+    csv_text(
+        std::iter::once(header(
+            "frequency_hz,requested_hz,line,source,status,reason",
+        ))
+        .chain(used)
+        .chain(skipped),
+    )
 }
 
 /// `mac.csv`.
 pub fn mac_csv(data: &ReportData) -> String {
-    let mut s = String::from("model,test_resonance,test_label,fe_mode_hz,mac,paired\n");
+    let mut rows = vec![header(
+        "model,test_resonance,test_label,fe_mode_hz,mac,paired",
+    )];
     for p in &data.mac.panels {
         for (t, row) in p.values.iter().enumerate() {
             for (c, v) in row.iter().enumerate() {
-                let _ = writeln!(
-                    s,
-                    "{},{},{},{},{},{}",
-                    field(&p.label),
-                    t + 1,
-                    field(data.mac.row_labels.get(t).map(String::as_str).unwrap_or("")),
-                    p.column_labels.get(c).map(|l| field(l)).unwrap_or_default(),
+                rows.push(vec![
+                    p.label.clone(),
+                    (t + 1).to_string(),
+                    data.mac.row_labels.get(t).cloned().unwrap_or_default(),
+                    p.column_labels.get(c).cloned().unwrap_or_default(),
                     f6(*v),
-                    p.pairs.contains(&(t, c))
-                );
+                    p.pairs.contains(&(t, c)).to_string(),
+                ]);
             }
         }
     }
-    s
+    csv_text(rows)
 }
 
 /// `frf.csv`: one row per channel and line, real and imaginary parts of each
@@ -146,28 +166,26 @@ pub fn mac_csv(data: &ReportData) -> String {
 pub fn frf_csv(data: &ReportData) -> String {
     let o = &data.frf;
     let units = data.kind.units();
-    let mut s = String::from("channel,frequency_hz");
+    let mut head = header("channel,frequency_hz");
     for l in &o.series_labels {
         let key = l.replace(' ', "_");
-        let _ = write!(s, ",{}", field(&format!("{key}_re[{units}]")));
-        let _ = write!(s, ",{}", field(&format!("{key}_im[{units}]")));
+        head.push(format!("{key}_re[{units}]"));
+        head.push(format!("{key}_im[{units}]"));
     }
-    s.push('\n');
+    let mut rows = vec![head];
     for ch in &o.channels {
         for (line, f) in o.frequencies_hz.iter().enumerate() {
-            let _ = write!(s, "{},{}", field(&ch.label), f6(*f));
+            let mut row = vec![ch.label.clone(), f6(*f)];
             for series in &ch.values {
                 match series.get(line) {
-                    Some(v) => {
-                        let _ = write!(s, ",{},{}", e6(v.re), e6(v.im));
-                    }
-                    None => s.push_str(",,"),
+                    Some(v) => row.extend([e6(v.re), e6(v.im)]),
+                    None => row.extend([String::new(), String::new()]),
                 }
             }
-            s.push('\n');
+            rows.push(row);
         }
     }
-    s
+    csv_text(rows)
 }
 
 #[cfg(test)]
@@ -176,8 +194,10 @@ mod tests {
 
     #[test]
     fn fields_and_numbers() {
-        assert_eq!(field("a,b"), "\"a,b\"");
-        assert_eq!(field("say \"x\""), "\"say \"\"x\"\"\"");
+        assert_eq!(
+            csv_text([["a,b", "say \"x\"", ""], ["1", "2", "3"]]),
+            "\"a,b\",\"say \"\"x\"\"\",\n1,2,3\n"
+        );
         assert_eq!(e6(f64::NAN), "");
         assert_eq!(f6(1.5), "1.500000");
     }

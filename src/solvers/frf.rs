@@ -473,18 +473,7 @@ pub fn try_modal_receptance(
         let inv_d: Vec<c64> = modes
             .omega2
             .iter()
-            .map(|&w2| {
-                let wr = w2.max(0.0).sqrt();
-                let d = match damping {
-                    Damping::None => c64::new(w2 - w * w, 0.0),
-                    Damping::Modal { zeta } => c64::new(w2 - w * w, 2.0 * zeta * wr * w),
-                    Damping::Rayleigh { alpha, beta } => {
-                        c64::new(w2 - w * w, w * (alpha + beta * w2))
-                    }
-                    Damping::Hysteretic { eta } => c64::new(w2 - w * w, w2 * eta),
-                };
-                d.inv()
-            })
+            .map(|&w2| damping.modal_denominator(w2, w).inv())
             .collect();
         for (row, &j) in outputs.iter().enumerate() {
             let mut h = c64::new(0.0, 0.0);

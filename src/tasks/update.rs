@@ -5,14 +5,28 @@
 use std::path::{Path, PathBuf};
 
 use super::{read_deck, CommandError};
+use crate::updating::options::{finite, finite_key};
 use crate::updating::{self, UpdateOptions, UpdateResult};
 
-/// Pass/fail thresholds of a case.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Pass/fail thresholds of an update: the flags of `frfup update` and
+/// `frfup batch`, the keys of a campaign file and of its cases.
+#[derive(clap::Args, Clone, Copy, Debug, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Thresholds {
-    /// Fail if the updated mean SFDAC is below this.
+    /// Fail if the updated mean SFDAC is below X (update: exit code 1; batch:
+    /// the case fails, whatever the campaign file says unless the case sets it).
+    #[arg(long = "fail-below-sfdac", value_name = "X", allow_negative_numbers = true, value_parser = finite)]
+    #[serde(rename = "fail-below-sfdac", default, deserialize_with = "finite_key")]
     pub min_sfdac: Option<f64>,
-    /// Fail if the updated mean |Δf/f| (%) is above this.
+    /// Fail if the updated mean |df/f| (%) is above PCT (update: exit code 1;
+    /// batch: the case fails, whatever the campaign file says unless the case
+    /// sets it).
+    #[arg(long = "fail-above-freq-error", value_name = "PCT", allow_negative_numbers = true, value_parser = finite)]
+    #[serde(
+        rename = "fail-above-freq-error",
+        default,
+        deserialize_with = "finite_key"
+    )]
     pub max_freq_error_pct: Option<f64>,
 }
 
@@ -130,6 +144,8 @@ pub fn run_into(
     crate::report::output::write_outputs_with_notes(&result, &deck, dir, &notes)
         .map_err(|e| CommandError::output(&cmd.out, e))?;
     lap("write tables and updated deck", &mut timings);
+    let states = crate::updating::model_states::model_states(&result, &deck, &test);
+    lap("evaluate the initial and updated models", &mut timings);
     let inputs = crate::report::ReportInputs {
         deck_path: shown.deck.clone(),
         test_path: shown.test.clone(),
@@ -137,7 +153,7 @@ pub fn run_into(
         command: None,
         input_notes: notes.clone(),
     };
-    crate::report::write_report(dir, &result, &deck, &test, &inputs).map_err(|e| {
+    crate::report::write_report(dir, &result, &states, &deck, &test, &inputs).map_err(|e| {
         CommandError::input(format!(
             "writing the report into {}: {e}",
             cmd.out.display()

@@ -8,7 +8,7 @@
 
 use faer::c64;
 
-use super::{FrfKind, MeasuredFrfs};
+use super::{i_omega_power, FrfKind, MeasuredFrfs};
 
 /// The outcome of a kind conversion.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,18 +59,6 @@ impl MeasuredFrfs {
             },
             zeroed_lines,
         }
-    }
-}
-
-/// (iω)^power for power in −2..=2.
-fn i_omega_power(omega: f64, power: i32) -> c64 {
-    match power {
-        0 => c64::new(1.0, 0.0),
-        1 => c64::new(0.0, omega),
-        2 => c64::new(-omega * omega, 0.0),
-        -1 => c64::new(0.0, -1.0 / omega),
-        -2 => c64::new(-1.0 / (omega * omega), 0.0),
-        _ => unreachable!("FRF kinds differ by at most two orders"),
     }
 }
 

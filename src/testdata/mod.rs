@@ -58,6 +58,12 @@ impl FrfKind {
         }
     }
 
+    /// (iω)ⁿ with n = [`FrfKind::order`]: the factor that turns a receptance
+    /// at ω (rad/s) into this kind.
+    pub fn from_receptance(self, omega: f64) -> c64 {
+        i_omega_power(omega, self.order())
+    }
+
     /// The UFF specific data type of the response (records 9): 8, 11 or 12.
     pub fn uff_data_type(self) -> i32 {
         match self {
@@ -194,5 +200,47 @@ pub fn function_type_name(code: i32) -> &'static str {
         26 => "multiple coherence",
         27 => "order function",
         _ => "other",
+    }
+}
+
+/// (iω)^power for power in −2..=2, ω in rad/s: the one conversion between FRF
+/// kinds (mobility = iω·receptance, accelerance = (iω)²·receptance). A
+/// negative power at ω = 0 is infinite; callers treat that line.
+pub fn i_omega_power(omega: f64, power: i32) -> c64 {
+    match power {
+        0 => c64::new(1.0, 0.0),
+        1 => c64::new(0.0, omega),
+        2 => c64::new(-omega * omega, 0.0),
+        -1 => c64::new(0.0, -1.0 / omega),
+        -2 => c64::new(-1.0 / (omega * omega), 0.0),
+        _ => unreachable!("FRF kinds differ by at most two orders"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{i_omega_power, FrfKind};
+    use faer::c64;
+
+    /// (iω)^p against repeated multiplication by iω (or by 1/(iω)), and the
+    /// kinds' factors against their definitions.
+    #[test]
+    fn i_omega_powers_are_repeated_products() {
+        let w = 3.7;
+        let iw = c64::new(0.0, w);
+        let mut up = c64::new(1.0, 0.0);
+        let mut down = c64::new(1.0, 0.0);
+        for p in 0..=2 {
+            assert!((i_omega_power(w, p) - up).norm() <= 1e-15 * up.norm());
+            assert!((i_omega_power(w, -p) - down).norm() <= 1e-15 * down.norm());
+            up *= iw;
+            down /= iw;
+        }
+        assert_eq!(FrfKind::Receptance.from_receptance(w), c64::new(1.0, 0.0));
+        assert_eq!(FrfKind::Mobility.from_receptance(w), iw);
+        assert_eq!(
+            FrfKind::Accelerance.from_receptance(w),
+            c64::new(-w * w, 0.0)
+        );
     }
 }

@@ -16,6 +16,8 @@ pub mod fullband;
 pub mod identify;
 pub mod iterate;
 pub mod measured;
+pub mod model_states;
+pub mod options;
 pub mod robust;
 pub mod sensitivity;
 pub mod serep;
@@ -29,169 +31,11 @@ use crate::solvers::eigen::EigenError;
 pub use correlation::{fdac_matrix, mac, sfdac, ModePair, SfdacSummary};
 pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, UpdatingFrequency};
 pub use iterate::{update, update_model, update_with_progress};
+pub use options::{
+    Frequencies, FrfWeighting, InverseChoice, ResonanceMethod, UpdateMethod, UpdateOptions,
+    UpdateSettings, DEFAULT_PERTURBATION,
+};
 pub use serep::{InverseMethod, SerepBasis};
-// FrfWeighting is defined in this module.
-
-/// Default relative diagonal perturbation of `--inverse perturb`.
-pub const DEFAULT_PERTURBATION: f64 = 1e-8;
-
-/// Which pipeline an update runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum UpdateMethod {
-    /// The default: resonances by the multi-channel pole fit, the
-    /// frequencies-first stage, damped (Levenberg–Marquardt) FRF steps, then
-    /// the full-band estimate of [`fullband::estimate`] with bounds, priors
-    /// and uncertainties. Convergence is that of the final estimate.
-    Robust,
-    /// The paper's iteration exactly (Eq. 26–29, 49), with the options as given.
-    Paper,
-}
-
-impl UpdateMethod {
-    pub fn name(self) -> &'static str {
-        match self {
-            UpdateMethod::Robust => "robust",
-            UpdateMethod::Paper => "paper",
-        }
-    }
-}
-
-/// Settings of an update. `Default` is the robust pipeline
-/// ([`UpdateMethod::Robust`]); [`UpdateOptions::paper`] the paper's method
-/// with the paper's values.
-#[derive(Clone, Debug, PartialEq)]
-pub struct UpdateOptions {
-    /// The pipeline.
-    pub method: UpdateMethod,
-    /// Levenberg–Marquardt iteration limit of the full-band estimate
-    /// ([`UpdateMethod::Robust`] only).
-    pub estimate_iterations: usize,
-    /// N_md, modes in the SEREP basis. `None`: min(N_ex, max(2R, R + 4)).
-    pub modes: Option<usize>,
-    /// R, test resonances used for Eq. 42 (and frequency equations).
-    /// `None`: min(resonances found, N_ex, 8).
-    pub resonances: Option<usize>,
-    /// cξ of Eq. 42: ω = (1 ± cξ) ω̄_r. Paper: 0.05–0.10.
-    pub offset: f64,
-    /// Explicit updating frequencies (Hz) instead of Eq. 42 (Table 3).
-    pub frequencies_hz: Option<Vec<f64>>,
-    /// Add the natural-frequency equations (Eq. 16–22).
-    pub with_frequencies: bool,
-    /// First bring the paired resonances within 1 % by the natural-frequency
-    /// equations alone (steps limited to |p| ≤ 0.3), then update from FRFs.
-    /// For initial models whose resonances are far from the test's.
-    pub frequencies_first: bool,
-    /// Row weighting of the FRF equations (see [`FrfWeighting`]).
-    pub weighting: FrfWeighting,
-    /// How Z̄ is inverted (§3.3).
-    pub inverse: InverseMethod,
-    /// ε of the SVD gap rule σ_{r+1}/σ_r < ε (Eq. 40).
-    pub svd_eps: f64,
-    /// Tikhonov damping μ/σ₁ of each FRF-stage step (rows μ I added to
-    /// Eq. 35; 0: the paper's undamped SVD solution). Bounds the step along
-    /// directions the equations barely see, which noise and unmodelled
-    /// physics otherwise blow up.
-    pub damping: f64,
-    /// ε of the stopping rule max_j |p_j| < ε (Eq. 49).
-    pub tol: f64,
-    /// Maximum number of updating steps.
-    pub max_iter: usize,
-    /// Modes whose measured partition adds less than this fraction of the
-    /// largest measured-partition norm to the basis are left out (SEREP).
-    pub basis_tolerance: f64,
-    /// How the test's resonances (and their shapes, for pairing) are found.
-    pub resonance_method: ResonanceMethod,
-    /// Minimum peak-to-valley ratio for a measured resonance.
-    pub min_prominence: f64,
-    /// Minimum MAC for pairing a test resonance with an FE mode.
-    pub mac_min: f64,
-    /// |p̄| beyond this counts as a diverging (exploding) parameter.
-    pub max_parameter: f64,
-}
-
-impl Default for UpdateOptions {
-    /// The robust pipeline: the paper's iteration as a first stage with
-    /// fitted resonances, the frequencies-first stage, ±5 % offsets and
-    /// damped steps (μ = 0.05 σ₁, adapted), then the full-band estimate.
-    fn default() -> Self {
-        UpdateOptions {
-            method: UpdateMethod::Robust,
-            resonance_method: ResonanceMethod::ModalFit,
-            frequencies_first: true,
-            offset: 0.05,
-            damping: 0.05,
-            ..UpdateOptions::paper()
-        }
-    }
-}
-
-impl UpdateOptions {
-    /// The paper's method with the paper's values (§4: cξ = 0.08, gap rule
-    /// ε = 1e-4, stop at max |p| < 0.01, undamped SVD steps, peak picking).
-    pub fn paper() -> Self {
-        UpdateOptions {
-            method: UpdateMethod::Paper,
-            estimate_iterations: 40,
-            modes: None,
-            resonances: None,
-            offset: 0.08,
-            frequencies_hz: None,
-            with_frequencies: false,
-            frequencies_first: false,
-            weighting: FrfWeighting::None,
-            inverse: InverseMethod::Svd,
-            svd_eps: 1e-4,
-            damping: 0.0,
-            tol: 0.01,
-            max_iter: 20,
-            basis_tolerance: 1e-3,
-            resonance_method: ResonanceMethod::PeakPicking,
-            min_prominence: 2.0,
-            mac_min: 0.6,
-            max_parameter: 10.0,
-        }
-    }
-}
-
-/// How the test's resonances are found.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ResonanceMethod {
-    /// The paper's way: peaks of the summed mobility indicator, half-power
-    /// damping, operating deflection shapes at the peak lines.
-    PeakPicking,
-    /// A multi-channel pole–residue fit ([`identify`]): finds weak modes and
-    /// separates close ones; shapes from the residues.
-    ModalFit,
-}
-
-impl ResonanceMethod {
-    pub fn name(self) -> &'static str {
-        match self {
-            ResonanceMethod::PeakPicking => "peaks",
-            ResonanceMethod::ModalFit => "fit",
-        }
-    }
-}
-
-/// Row weighting of the stacked FRF equations (Eq. 11).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FrfWeighting {
-    /// As the paper writes Eq. 11: rows in m/N. The FRF magnitude falls like
-    /// 1/ω², so the lowest updating frequencies dominate the least squares.
-    None,
-    /// Block i (A_i, b_i) divided by ‖h̄_i‖: every updating frequency counts
-    /// alike. The exact (noise-free) solution is unchanged.
-    PerFrequency,
-}
-
-impl FrfWeighting {
-    pub fn name(self) -> &'static str {
-        match self {
-            FrfWeighting::None => "none",
-            FrfWeighting::PerFrequency => "per-frequency",
-        }
-    }
-}
 
 /// Why an update could not run.
 #[derive(Debug)]

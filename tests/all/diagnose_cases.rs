@@ -7,6 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
+use frfup::diagnosis::verdict::Verdict;
 use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis, Finding};
 use frfup::parsers::deck::Deck;
 use frfup::report::diagnosis::write_outputs;
@@ -81,6 +82,8 @@ fn at_noise_level(d: &Diagnosis) {
         "FRF error after diagnosis {} (1 = noise)",
         d.diagnosed.frf_error
     );
+    let verdict = Verdict::of(d);
+    assert!(verdict.is_conclusive(), "{verdict:?}");
 }
 
 #[test]
@@ -143,6 +146,7 @@ fn controls_only_parameters_wrong() {
         let d = run(case);
         assert!(d.findings.is_empty(), "{case}: {:?}", d.findings);
         at_noise_level(&d);
+        assert_eq!(Verdict::of(&d), Verdict::NothingMissing, "{case}");
     }
 }
 

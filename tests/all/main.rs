@@ -3,6 +3,7 @@
 //! former `tests/*.rs` file, its tests named `module::test`. Run one module
 //! with `cargo test --test all module::`.
 
+mod campaign_doc;
 mod campaign_support;
 mod model_common;
 mod png_support;

@@ -3,9 +3,9 @@
 //! model as given, after the parameter update and diagnosed, and a
 //! self-contained `report.html` with the content of `report.md`.
 //!
-//! The model FRFs are computed by the diagnosis' own predictor
-//! ([`fit::modal_model`], [`fit::predict`]) on the test data as the diagnosis
-//! prepared them (same lines, channels, excitation and FRF kind).
+//! The model FRFs are the ones the diagnosis scored ([`FitQuality::frfs`]:
+//! its own predictor on the test data as it prepared them, same lines,
+//! channels, excitation and FRF kind, with the damping fitted to the test).
 
 use std::fmt::Write as _;
 
@@ -18,10 +18,7 @@ use super::charts::ChartError;
 use super::data::{pretty_units, resonance_marks};
 use super::html::{chart, esc, frf_charts};
 use crate::diagnosis::data::TestData;
-use crate::diagnosis::fit::{self, Mask};
-use crate::diagnosis::hypotheses::damping as hdamp;
-use crate::diagnosis::{describe_damping, sig, DiagnoseError, Diagnosis, FitQuality};
-use crate::model::Damping;
+use crate::diagnosis::{describe_damping, sig, Diagnosis, FitQuality};
 use crate::testdata::MeasuredFrfs;
 use output::finding_values;
 
@@ -193,32 +190,6 @@ fn empty_overlay(test: &MeasuredFrfs) -> FrfOverlay {
     }
 }
 
-/// The FRFs of `deck` at the channels of `data` with `damping`, or with the
-/// damping refitted to the test from `damping` when `refit` (as the fit
-/// table's numbers were computed).
-fn model_frfs(
-    deck: &Deck,
-    data: &TestData,
-    damping: Damping,
-    refit: bool,
-) -> Result<(Vec<Vec<Complex64>>, Damping), DiagnoseError> {
-    let mm = fit::modal_model(deck, data)?;
-    let all = Mask::all(data);
-    let damping = if refit {
-        let start = fit::start_damping(damping, data);
-        fit::fit_damping(&mm, &start, data, &all, 10).0.damping()
-    } else {
-        damping
-    };
-    let pred = fit::predict(&mm, damping, data, &all);
-    Ok((
-        pred.into_iter()
-            .map(|c| c.into_iter().map(|h| Complex64::new(h.re, h.im)).collect())
-            .collect(),
-        damping,
-    ))
-}
-
 /// Measured FRFs (series 0) and the FRFs of the deck as given, after the
 /// parameter update and diagnosed (series 1–3) at the lines and channels of
 /// `data`, in the measured kind; the note says which model gave no FRF.
@@ -231,36 +202,39 @@ pub fn overlay(
     let mut o = empty_overlay(test);
     let input = crate::testdata::dof_label(data.input.0 as i64, data.input.1);
     o.subtitle = Some(format!(
-        "{}, excitation {input}; damping: fitted to the test (as in the fit table), diagnosed: its deck's",
+        "{}, excitation {input}; damping: fitted to the test (as in the fit table)",
         test.kind.name()
     ));
     o.frequencies_hz = data.lines_hz.clone();
     o.resonances = resonance_marks(&data.resonances);
-    let updated = d.updated_deck.clone();
-    let models = [
-        (deck, hdamp::of_deck(deck), true),
-        (&updated, hdamp::of_deck(&updated), true),
-        (&d.diagnosed_deck, hdamp::of_deck(&d.diagnosed_deck), false),
-    ];
     let nan = vec![Complex64::new(f64::NAN, f64::NAN); data.lines_hz.len()];
+    let same = d.updated_deck == *deck;
     let mut series: Vec<Vec<Vec<Complex64>>> = Vec::new();
     let mut notes = Vec::new();
-    for ((m, damping, refit), name) in models.iter().zip(&MODEL_NAMES) {
-        match model_frfs(m, data, *damping, *refit) {
-            Ok((h, used)) => {
-                let same = *name == MODEL_NAMES[1] && updated == *deck;
-                o.series_labels.push(format!(
-                    "{name} ({}{})",
-                    if same { "= as given, " } else { "" },
-                    describe_damping(used)
-                ));
-                series.push(h);
-            }
-            Err(e) => {
-                o.series_labels.push(format!("{name} (no FRF)"));
-                notes.push(format!("model {name}: {e}"));
-                series.push(vec![nan.clone(); data.channels.len()]);
-            }
+    for (q, name) in [&d.initial, &d.updated, &d.diagnosed]
+        .iter()
+        .zip(&MODEL_NAMES)
+    {
+        if q.frfs.len() == data.channels.len() {
+            let as_given = if *name == MODEL_NAMES[1] && same {
+                "= as given, "
+            } else {
+                ""
+            };
+            o.series_labels.push(format!(
+                "{name} ({as_given}{})",
+                describe_damping(q.damping_model)
+            ));
+            series.push(
+                q.frfs
+                    .iter()
+                    .map(|c| c.iter().map(|h| Complex64::new(h.re, h.im)).collect())
+                    .collect(),
+            );
+        } else {
+            o.series_labels.push(format!("{name} (no FRF)"));
+            notes.push(format!("model {name}: no FRF at the test's channels"));
+            series.push(vec![nan.clone(); data.channels.len()]);
         }
     }
     o.channels = data

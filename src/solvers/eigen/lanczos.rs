@@ -643,6 +643,13 @@ pub fn block_lanczos(
 }
 
 /// With `best_effort`, running out of restarts returns the current Ritz pairs.
+///
+/// Each pass: apply C to the pending block and append it to the basis
+/// ([`Krylov::extend`]); orthogonalise the result into the next block
+/// ([`Krylov::next_block`]); when due ([`Plan::check_due`]), compute the Ritz
+/// pairs and stop once `count` have converged ([`Krylov::converged`]); when
+/// the basis is full, restart from the leading Ritz vectors
+/// ([`Krylov::thick_restart`]).
 fn block_lanczos_impl(
     op: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>,
     n: usize,
@@ -650,54 +657,186 @@ fn block_lanczos_impl(
     tuning: &EigenTuning,
     best_effort: bool,
 ) -> Result<LanczosOutcome, EigenError> {
-    let par = par_iter();
-    let count = count.min(n);
-    let b = tuning.block_size.clamp(1, n.max(1));
-    let max_basis = if tuning.max_basis > 0 {
-        tuning.max_basis
-    } else {
-        (2 * count + 4 * b).max(40)
-    }
-    .max(count + 2 * b)
-    .min(n);
-    let keep_target = (count + (max_basis - count) / 2)
-        .min(max_basis.saturating_sub(b))
-        .max(count);
-    // Krylov convergence of `count` pairs takes a basis of about three times
-    // `count` (216 vectors for 50 modes on the plate lattice, 136 for 39 on
-    // GARTEUR): no check before twice `count` in the first cycle (after a
-    // restart the kept Ritz vectors already are most of the way).
-    let first_check = (2 * count).min(max_basis.saturating_sub(b)).max(count);
-    let mut rng = Xorshift(0x9E37_79B9_7F4A_7C15);
-
-    let mut v = Mat::<f64>::zeros(n, max_basis);
-    let mut t = Mat::<f64>::zeros(max_basis, max_basis);
-    let mut cols = 0usize;
-
-    let mut q = Mat::from_fn(n, b.min(n), |_, _| rng.next());
-    orthonormalise(v.get(.., ..0), q.as_mut(), 0, &mut rng);
-    let mut applications = 0usize;
-    let mut restarts = 0usize;
-    // Flops of Gram–Schmidt since the last convergence check.
-    let mut work = 0.0f64;
-    // Ritz residuals at the previous convergence check, by pair.
-    let mut previous_residuals: Vec<f64> = Vec::new();
-
+    let plan = Plan::new(n, count, tuning);
+    let count = plan.count;
+    let mut k = Krylov::start(n, &plan);
     loop {
-        // Apply the operator to the pending block and append it to the basis.
-        let bq = q.ncols();
-        let wq = op(q.as_ref());
-        applications += bq;
-        v.get_mut(.., cols..cols + bq).copy_from(&q);
+        let (wq, h) = k.extend(op);
+        let bq = h.ncols();
+        if k.cols == n {
+            let (theta, s) = small_evd(k.projected(), count)?;
+            return Ok(k.ritz(&theta, s.as_ref(), count));
+        }
+        let next = k.next_block(wq, &h, plan.block);
+        let restart = k.cols + next.z.ncols() > plan.max_basis;
+        if !(restart || plan.check_due(&k, next.exact_relation)) {
+            k.q = next.z;
+            continue;
+        }
+        k.work = 0.0;
+        // The check needs `count` Ritz pairs; a restart more (below).
+        let (theta, s) = small_evd(k.projected(), count)?;
+        let check = k.converged(&theta, s.as_ref(), next.r.as_ref(), bq, tuning.tolerance);
+        if next.exact_relation && check.converged == count && k.cols >= count {
+            let mut out = k.ritz(&theta, s.as_ref(), count);
+            out.at_floor = check.at_floor > 0;
+            return Ok(out);
+        }
+        k.q = next.z;
+        if k.cols + k.q.ncols() > plan.max_basis {
+            k.restarts += 1;
+            if k.restarts > tuning.max_restarts {
+                if best_effort {
+                    return Ok(k.ritz(&theta, s.as_ref(), count));
+                }
+                return Err(EigenError::NoConvergence {
+                    detail: format!(
+                        "{} of {count} modes converged after {} restarts ({} operator applications)",
+                        check.converged, k.restarts, k.applications
+                    ),
+                });
+            }
+            k.thick_restart(theta, s, plan.keep_target)?;
+        }
+    }
+}
+
+/// The sizes of a block Lanczos run.
+struct Plan {
+    /// Wanted pairs (at most n).
+    count: usize,
+    /// Block size b.
+    block: usize,
+    /// Largest basis: `tuning.max_basis`, or about 2·count + 4·b.
+    max_basis: usize,
+    /// Ritz vectors kept at a thick restart.
+    keep_target: usize,
+    /// Basis size of the first convergence check of the first cycle.
+    first_check: usize,
+}
+
+impl Plan {
+    fn new(n: usize, count: usize, tuning: &EigenTuning) -> Self {
+        let count = count.min(n);
+        let block = tuning.block_size.clamp(1, n.max(1));
+        let max_basis = if tuning.max_basis > 0 {
+            tuning.max_basis
+        } else {
+            (2 * count + 4 * block).max(40)
+        }
+        .max(count + 2 * block)
+        .min(n);
+        let keep_target = (count + (max_basis - count) / 2)
+            .min(max_basis.saturating_sub(block))
+            .max(count);
+        // Krylov convergence of `count` pairs takes a basis of about three times
+        // `count` (216 vectors for 50 modes on the plate lattice, 136 for 39 on
+        // GARTEUR): no check before twice `count` in the first cycle (after a
+        // restart the kept Ritz vectors already are most of the way).
+        let first_check = (2 * count).min(max_basis.saturating_sub(block)).max(count);
+        Plan {
+            count,
+            block,
+            max_basis,
+            keep_target,
+            first_check,
+        }
+    }
+
+    /// Whether to compute the Ritz pairs now (a restart always needs them).
+    /// They come from a dense EVD of T (about 9 cols³ flops). On small
+    /// operators that costs more than a block step (about 6 n·cols·b flops
+    /// of Gram–Schmidt), so convergence is checked only once the steps since
+    /// the last check have done as much work.
+    fn check_due(&self, k: &Krylov, exact_relation: bool) -> bool {
+        let evd_cost = EVD_FLOPS_PER_CUBE * (k.cols as f64).powi(3);
+        let check_from = if k.restarts == 0 {
+            self.first_check
+        } else {
+            self.count
+        };
+        exact_relation && k.cols >= check_from && k.work >= evd_cost
+    }
+}
+
+/// The state of a block Lanczos run: the basis V (n × max_basis, `cols` in
+/// use), T = Vᵀ C V, and the pending block q.
+struct Krylov {
+    n: usize,
+    v: Mat<f64>,
+    t: Mat<f64>,
+    cols: usize,
+    q: Mat<f64>,
+    applications: usize,
+    restarts: usize,
+    /// Flops of Gram–Schmidt since the last convergence check.
+    work: f64,
+    /// Ritz residuals at the previous convergence check, by pair.
+    previous_residuals: Vec<f64>,
+    rng: Xorshift,
+}
+
+/// The block after the newest: z orthonormal to the basis, with z_in = z R.
+struct NextBlock {
+    z: Mat<f64>,
+    r: Mat<f64>,
+    /// z is a whole block (not shrunk near the full dimension), so the
+    /// residual estimates of [`Krylov::converged`] hold.
+    exact_relation: bool,
+}
+
+/// Outcome of a convergence check.
+struct Convergence {
+    converged: usize,
+    /// Of which accepted at the rounding floor.
+    at_floor: usize,
+}
+
+impl Krylov {
+    /// An empty basis and a pseudo-random first block.
+    fn start(n: usize, plan: &Plan) -> Self {
+        let mut rng = Xorshift(0x9E37_79B9_7F4A_7C15);
+        let v = Mat::<f64>::zeros(n, plan.max_basis);
+        let t = Mat::<f64>::zeros(plan.max_basis, plan.max_basis);
+        let mut q = Mat::from_fn(n, plan.block.min(n), |_, _| rng.next());
+        orthonormalise(v.get(.., ..0), q.as_mut(), 0, &mut rng);
+        Krylov {
+            n,
+            v,
+            t,
+            cols: 0,
+            q,
+            applications: 0,
+            restarts: 0,
+            work: 0.0,
+            previous_residuals: Vec::new(),
+            rng,
+        }
+    }
+
+    /// T restricted to the basis in use.
+    fn projected(&self) -> MatRef<'_, f64> {
+        self.t.get(..self.cols, ..self.cols)
+    }
+
+    /// Applies the operator to the pending block q and appends q to the
+    /// basis, with its column of T (h = Vᵀ C q, new diagonal block
+    /// symmetrised). Returns C q and h.
+    fn extend(&mut self, op: &dyn Fn(MatRef<'_, f64>) -> Mat<f64>) -> (Mat<f64>, Mat<f64>) {
+        let (cols, bq) = (self.cols, self.q.ncols());
+        let wq = op(self.q.as_ref());
+        self.applications += bq;
+        self.v.get_mut(.., cols..cols + bq).copy_from(&self.q);
         let mut h = Mat::<f64>::zeros(cols + bq, bq);
         matmul(
             h.as_mut(),
             Accum::Replace,
-            v.get(.., ..cols + bq).transpose(),
+            self.v.get(.., ..cols + bq).transpose(),
             wq.as_ref(),
             1.0,
-            par,
+            par_iter(),
         );
+        let t = &mut self.t;
         for i in 0..cols + bq {
             for j in 0..bq {
                 t[(i, cols + j)] = h[(i, j)];
@@ -712,65 +851,61 @@ fn block_lanczos_impl(
                 t[(cols + j, cols + i)] = a;
             }
         }
-        cols += bq;
-        work += 6.0 * (n * cols * bq) as f64;
+        self.cols += bq;
+        self.work += 6.0 * (self.n * self.cols * bq) as f64;
+        (wq, h)
+    }
 
-        if cols == n {
-            let (theta, s) = small_evd(t.get(..cols, ..cols), count)?;
-            return Ok(ritz(
-                v.get(.., ..cols),
-                &theta,
-                s.as_ref(),
-                count,
-                applications,
-                restarts,
-            ));
-        }
-        // Next block: the new W columns orthogonalised against the basis.
-        // Near the full dimension the block shrinks; the residual estimate then
-        // no longer holds and the basis simply grows to n (exact).
-        let next_b = b.min(n - cols);
+    /// The next block: C q orthogonalised against the basis (classical
+    /// Gram–Schmidt twice, the first pass reusing h = Vᵀ C q). Near the full
+    /// dimension the block shrinks; the residual estimate then no longer
+    /// holds and the basis simply grows to n (exact).
+    fn next_block(&mut self, mut wq: Mat<f64>, h: &Mat<f64>, block: usize) -> NextBlock {
+        let bq = h.ncols();
+        let next_b = block.min(self.n - self.cols);
         let exact_relation = next_b == bq;
-        // Classical Gram–Schmidt, twice: the first pass reuses h = Vᵀ C q.
-        let mut wq = wq;
         matmul(
             wq.as_mut(),
             Accum::Add,
-            v.get(.., ..cols),
+            self.v.get(.., ..self.cols),
             h.as_ref(),
             -1.0,
-            par,
+            par_iter(),
         );
         let mut z = if exact_relation {
             wq
         } else {
             wq.get(.., ..next_b.min(bq)).to_owned()
         };
-        let r = orthonormalise(v.get(.., ..cols), z.as_mut(), 1, &mut rng);
-        let restart = cols + z.ncols() > max_basis;
-        // The Ritz pairs come from a dense EVD of T (about 9 cols³ flops). On
-        // small operators that costs more than a block step (about 6 n·cols·b
-        // flops of Gram–Schmidt), so convergence is checked only once the steps
-        // since the last check have done as much work; a restart always needs them.
-        let evd_cost = EVD_FLOPS_PER_CUBE * (cols as f64).powi(3);
-        let check_from = if restarts == 0 { first_check } else { count };
-        if !(restart || (exact_relation && cols >= check_from && work >= evd_cost)) {
-            q = z;
-            continue;
+        let r = orthonormalise(self.v.get(.., ..self.cols), z.as_mut(), 1, &mut self.rng);
+        NextBlock {
+            z,
+            r,
+            exact_relation,
         }
-        work = 0.0;
-        // The check needs `count` Ritz pairs; a restart more (below).
-        let (mut theta, mut s) = small_evd(t.get(..cols, ..cols), count)?;
-        // Residual of Ritz pair i: ‖R s_i[last block]‖, against tol·θ_i. The
-        // Krylov relation itself only holds to ~ε‖C‖ = ε θ₁ times a growth
-        // factor: when θ₁/θ_count is large (300 modes of a 5,400-DOF lattice,
-        // shift just below ω²₁: 1.4e3) the smallest wanted pairs stall at
-        // ~1e-12·θ₁ (~5e3 ε), above tol·θ_i, and a pair that met tol at one
-        // check missed it at the next (150 restarts). A pair whose residual
-        // is below the floor and fell by less than half since the previous
-        // check has stalled there and counts as converged.
+    }
+
+    /// How many of the Ritz pairs (θ, s) have converged.
+    ///
+    /// Residual of Ritz pair i: ‖R s_i[last block]‖, against tol·θ_i. The
+    /// Krylov relation itself only holds to ~ε‖C‖ = ε θ₁ times a growth
+    /// factor: when θ₁/θ_count is large (300 modes of a 5,400-DOF lattice,
+    /// shift just below ω²₁: 1.4e3) the smallest wanted pairs stall at
+    /// ~1e-12·θ₁ (~5e3 ε), above tol·θ_i, and a pair that met tol at one
+    /// check missed it at the next (150 restarts). A pair whose residual
+    /// is below the floor and fell by less than half since the previous
+    /// check has stalled there and counts as converged.
+    fn converged(
+        &mut self,
+        theta: &[f64],
+        s: MatRef<'_, f64>,
+        r: MatRef<'_, f64>,
+        bq: usize,
+        tolerance: f64,
+    ) -> Convergence {
+        let cols = self.cols;
         let floor = RESIDUAL_FLOOR_ULPS * f64::EPSILON * theta.first().map_or(0.0, |t| t.abs());
-        let residuals: Vec<f64> = (0..count.min(cols))
+        let residuals: Vec<f64> = (0..theta.len().min(cols))
             .map(|i| {
                 let mut res2 = 0.0;
                 for row in 0..r.nrows() {
@@ -783,71 +918,73 @@ fn block_lanczos_impl(
                 res2.sqrt()
             })
             .collect();
-        let (mut converged, mut at_floor) = (0, 0);
+        let mut check = Convergence {
+            converged: 0,
+            at_floor: 0,
+        };
         for (i, &res) in residuals.iter().enumerate() {
-            if res <= tuning.tolerance * theta[i].abs() {
-                converged += 1;
+            if res <= tolerance * theta[i].abs() {
+                check.converged += 1;
             } else if res <= floor
-                && previous_residuals
+                && self
+                    .previous_residuals
                     .get(i)
                     .is_some_and(|&before| res > STALL_RATIO * before)
             {
-                converged += 1;
-                at_floor += 1;
+                check.converged += 1;
+                check.at_floor += 1;
             }
         }
-        previous_residuals = residuals;
-        if exact_relation && converged == count && cols >= count {
-            let mut out = ritz(
-                v.get(.., ..cols),
-                &theta,
-                s.as_ref(),
-                count,
-                applications,
-                restarts,
-            );
-            out.at_floor = at_floor > 0;
-            return Ok(out);
+        self.previous_residuals = residuals;
+        check
+    }
+
+    /// Thick restart from the leading Ritz vectors: the basis becomes the
+    /// `keep_target` (at most cols) leading Ritz vectors and T their Ritz
+    /// values. The pending block is orthogonal to the old basis, hence to
+    /// the new one; its coupling to the kept vectors, Vᵀ C q, is computed
+    /// when it is applied.
+    fn thick_restart(
+        &mut self,
+        mut theta: Vec<f64>,
+        mut s: Mat<f64>,
+        keep_target: usize,
+    ) -> Result<(), EigenError> {
+        let cols = self.cols;
+        let keep = keep_target.min(cols);
+        if keep > theta.len() {
+            (theta, s) = small_evd(self.projected(), keep)?;
         }
-        q = z;
-        if cols + q.ncols() > max_basis {
-            // Thick restart from the leading Ritz vectors.
-            restarts += 1;
-            if restarts > tuning.max_restarts {
-                if best_effort {
-                    return Ok(ritz(
-                        v.get(.., ..cols),
-                        &theta,
-                        s.as_ref(),
-                        count,
-                        applications,
-                        restarts,
-                    ));
-                }
-                return Err(EigenError::NoConvergence {
-                    detail: format!(
-                        "{converged} of {count} modes converged after {restarts} restarts ({applications} operator applications)"
-                    ),
-                });
-            }
-            let keep = keep_target.min(cols);
-            if keep > theta.len() {
-                (theta, s) = small_evd(t.get(..cols, ..cols), keep)?;
-            }
-            let sk = s.get(.., ..keep);
-            let mut nv = Mat::<f64>::zeros(n, keep);
-            matmul(nv.as_mut(), Accum::Replace, v.get(.., ..cols), sk, 1.0, par);
-            v.get_mut(.., ..keep).copy_from(&nv);
-            drop(nv);
-            t.fill(0.0);
-            for i in 0..keep {
-                t[(i, i)] = theta[i];
-            }
-            cols = keep;
-            // The pending block is orthogonal to the old basis, hence to the new
-            // one; its coupling to the kept vectors, Vᵀ C q, is computed when it
-            // is applied.
+        let sk = s.get(.., ..keep);
+        let mut nv = Mat::<f64>::zeros(self.n, keep);
+        matmul(
+            nv.as_mut(),
+            Accum::Replace,
+            self.v.get(.., ..cols),
+            sk,
+            1.0,
+            par_iter(),
+        );
+        self.v.get_mut(.., ..keep).copy_from(&nv);
+        drop(nv);
+        self.t.fill(0.0);
+        for (i, &value) in theta.iter().enumerate().take(keep) {
+            self.t[(i, i)] = value;
         }
+        self.cols = keep;
+        Ok(())
+    }
+
+    /// The `count` Ritz pairs (θ, V s) of the basis in use.
+    fn ritz(&self, theta: &[f64], s: MatRef<'_, f64>, count: usize) -> LanczosOutcome {
+        ritz(
+            self.v.get(.., ..self.cols),
+            theta,
+            s,
+            count,
+            self.applications,
+            self.restarts,
+        )
     }
 }
 

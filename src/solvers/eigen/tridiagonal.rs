@@ -36,28 +36,62 @@ pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Ve
     if d.iter().chain(e).any(|v| !v.is_finite()) {
         return None;
     }
-    // Gershgorin interval and a norm of T.
-    let radius = |i: usize| {
-        (if i > 0 { e[i - 1].abs() } else { 0.0 }) + (if i + 1 < n { e[i].abs() } else { 0.0 })
-    };
-    let lo = (0..n)
-        .map(|i| d[i] - radius(i))
-        .fold(f64::INFINITY, f64::min);
-    let hi = (0..n)
-        .map(|i| d[i] + radius(i))
-        .fold(f64::NEG_INFINITY, f64::max);
-    let norm = lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
-    if !(hi - lo).is_finite() {
-        return None;
-    }
-    let e2: Vec<f64> = e.iter().map(|v| v * v).collect();
-    // A zero pivot is replaced by this (as LAPACK's pivmin).
-    let pivmin = f64::MIN_POSITIVE.max(f64::EPSILON * f64::EPSILON * norm);
+    let bounds = Bounds::of(d, e)?;
+    let values = bisect(d, e, count, &bounds);
+    let vectors = inverse_iteration(d, e, &values, &bounds)?;
+    checked(d, e, &values, &vectors, bounds.norm).then_some((values, vectors))
+}
 
-    // Eigenvalue with ascending index j = n − 1 − r: the least x with more
-    // than j eigenvalues below it. All `count` bisections advance together,
-    // one Sturm sequence per lane, so the divisions of different eigenvalues
-    // overlap instead of waiting on each other.
+/// The Gershgorin interval [lo, hi] of T, a norm of T, and the pivot that
+/// replaces a zero one (as LAPACK's pivmin).
+struct Bounds {
+    lo: f64,
+    hi: f64,
+    norm: f64,
+    pivmin: f64,
+}
+
+impl Bounds {
+    /// `None` when the interval is not finite.
+    fn of(d: &[f64], e: &[f64]) -> Option<Self> {
+        let n = d.len();
+        let radius = |i: usize| {
+            (if i > 0 { e[i - 1].abs() } else { 0.0 }) + (if i + 1 < n { e[i].abs() } else { 0.0 })
+        };
+        let lo = (0..n)
+            .map(|i| d[i] - radius(i))
+            .fold(f64::INFINITY, f64::min);
+        let hi = (0..n)
+            .map(|i| d[i] + radius(i))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let norm = lo.abs().max(hi.abs()).max(f64::MIN_POSITIVE);
+        if !(hi - lo).is_finite() {
+            return None;
+        }
+        let pivmin = f64::MIN_POSITIVE.max(f64::EPSILON * f64::EPSILON * norm);
+        Some(Bounds {
+            lo,
+            hi,
+            norm,
+            pivmin,
+        })
+    }
+}
+
+/// The `count` largest eigenvalues by bisection on Sturm counts, largest
+/// first. Eigenvalue with ascending index j = n − 1 − r: the least x with
+/// more than j eigenvalues below it. All `count` bisections advance
+/// together, one Sturm sequence per lane, so the divisions of different
+/// eigenvalues overlap instead of waiting on each other.
+fn bisect(d: &[f64], e: &[f64], count: usize, bounds: &Bounds) -> Vec<f64> {
+    let n = d.len();
+    let Bounds {
+        lo,
+        hi,
+        norm,
+        pivmin,
+    } = *bounds;
+    let e2: Vec<f64> = e.iter().map(|v| v * v).collect();
     let tol = 4.0 * f64::EPSILON * norm;
     let mut a = vec![lo - tol; count];
     let mut b = vec![hi + tol; count];
@@ -94,18 +128,29 @@ pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Ve
             }
         }
     }
-    let values: Vec<f64> = (0..count).map(|r| 0.5 * (a[r] + b[r])).collect();
+    (0..count).map(|r| 0.5 * (a[r] + b[r])).collect()
+}
 
-    // Inverse iteration, largest first.
-    let accept = 1e3 * f64::EPSILON;
+/// A pair is accepted when ‖T z − λz‖ ≤ this · ‖T‖ (10³ ε).
+const ACCEPT: f64 = 1e3 * f64::EPSILON;
+
+/// Eigenvectors of `values` (descending) by inverse iteration, largest
+/// first; `None` when a solve breaks down.
+fn inverse_iteration(
+    d: &[f64],
+    e: &[f64],
+    values: &[f64],
+    bounds: &Bounds,
+) -> Option<Vec<Vec<f64>>> {
+    let n = d.len();
+    let norm = bounds.norm;
     let cluster_gap = 1e-3 * norm;
     let separation = 10.0 * f64::EPSILON * norm;
-    let mut vectors: Vec<Vec<f64>> = Vec::with_capacity(count);
+    let mut vectors: Vec<Vec<f64>> = Vec::with_capacity(values.len());
     let mut cluster_start = 0;
     let mut previous_shift = f64::INFINITY;
     let mut seed = 0x2545_F491_4F6C_DD1Du64;
-    for r in 0..count {
-        let lambda = values[r];
+    for (r, &lambda) in values.iter().enumerate() {
         if r == 0 || values[r - 1] - lambda > cluster_gap {
             cluster_start = r;
         }
@@ -115,7 +160,7 @@ pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Ve
             shift = previous_shift - separation;
         }
         previous_shift = shift;
-        let lu = TridiagonalLu::of(d, e, shift, pivmin.max(f64::EPSILON * norm));
+        let lu = TridiagonalLu::of(d, e, shift, bounds.pivmin.max(f64::EPSILON * norm));
         let mut x: Vec<f64> = (0..n)
             .map(|_| {
                 seed ^= seed >> 12;
@@ -135,30 +180,33 @@ pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Ve
                 return None;
             }
             x.iter_mut().for_each(|v| *v /= scale);
-            if sweep + 1 >= MIN_SWEEPS && residual(d, e, lambda, &x) <= accept * norm {
+            if sweep + 1 >= MIN_SWEEPS && residual(d, e, lambda, &x) <= ACCEPT * norm {
                 break;
             }
         }
         vectors.push(x);
     }
+    Some(vectors)
+}
 
-    // Checks: residuals and orthonormality.
-    for (lambda, z) in values.iter().zip(&vectors) {
-        if residual(d, e, *lambda, z) > accept * norm {
-            return None;
+/// Every residual ≤ [`ACCEPT`]·‖T‖ and |z_iᵀz_j − δ_ij| ≤ 10⁻¹⁰.
+fn checked(d: &[f64], e: &[f64], values: &[f64], vectors: &[Vec<f64>], norm: f64) -> bool {
+    for (lambda, z) in values.iter().zip(vectors) {
+        if residual(d, e, *lambda, z) > ACCEPT * norm {
+            return false;
         }
     }
     let check = 1e-10;
-    for i in 0..count {
+    for i in 0..vectors.len() {
         for j in 0..=i {
             let dot: f64 = vectors[i].iter().zip(&vectors[j]).map(|(a, b)| a * b).sum();
             let expect = if i == j { 1.0 } else { 0.0 };
             if (dot - expect).abs() > check {
-                return None;
+                return false;
             }
         }
     }
-    Some((values, vectors))
+    true
 }
 
 /// Inverse-iteration sweeps per vector: at least, and at most.

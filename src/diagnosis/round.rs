@@ -1,0 +1,480 @@
+//! One greedy round: generate the candidate extensions of the current model
+//! ([`hypotheses`]), screen them by linear probes ([`localise`]), choose the
+//! best-scored of each class (and suspension springs by forward selection),
+//! fit those in full, and cross-validate the most promising ([`select`]).
+
+use std::collections::BTreeMap;
+
+use frfup_parsers::deck::Deck;
+
+use super::fit::{self, DampingState};
+use super::hypotheses::{self, Context, Hypothesis, Physics};
+use super::search::Search;
+use super::select::{Engine, FitRequest, HypFit, LogSearch};
+use super::{localise, refit, DiagnoseError};
+use crate::model::{self, ParameterValues};
+
+/// What a round found.
+pub(super) struct Round {
+    /// The candidates cross-validated: hypothesis, fit, validation cost.
+    pub validated: Vec<(Hypothesis, HypFit, f64)>,
+    /// Every candidate fitted in full this round, best cost first.
+    pub fitted: Vec<(Hypothesis, HypFit)>,
+    /// Node scores: the best candidate's score at each node, descending (at most 10).
+    pub localisation: Vec<(u32, f64, String)>,
+    /// The model has more than 200 DOFs (smaller searches).
+    pub large: bool,
+}
+
+/// The current model as a round sees it.
+struct Current<'a> {
+    deck: &'a Deck,
+    damp: &'a DampingState,
+    /// Labels of the extensions already accepted (not proposed again).
+    used: &'a [String],
+    /// The weighted residual r₀ of the current model on all data.
+    r0: Vec<f64>,
+    /// What the hypothesis generators need to know of the model.
+    ctx: Context<'a>,
+    /// More than 200 DOFs: smaller searches.
+    large: bool,
+}
+
+/// The round's candidates and their linear probes (index-aligned).
+struct Screened {
+    candidates: Vec<Hypothesis>,
+    probes: Vec<localise::Probe>,
+    /// Candidates before this index are the main classes; the suspension
+    /// single springs follow.
+    n_main: usize,
+}
+
+/// One greedy round on `current` (damping `damp`): generate, screen, fit,
+/// validate. `used`: labels of the extensions already accepted.
+pub(super) fn search_round(
+    search: &Search,
+    current: &Deck,
+    damp: &DampingState,
+    used: &[String],
+) -> Result<Round, DiagnoseError> {
+    let engine = search.engine;
+    let cur = Current::new(engine, current, damp, used)?;
+    let screened = screen(engine, &cur);
+    let localisation = node_localisation(&screened);
+    let mut chosen = choose_by_score(&screened, search.opts.fitted_per_round);
+    if cur.ctx.free_free {
+        choose_suspension_springs(engine, &cur, &screened, &mut chosen);
+    }
+    // Shear deformation has no parameter: always fitted.
+    chosen.extend(
+        hypotheses::shear::shear_deformation(&cur.ctx)
+            .into_iter()
+            .filter(|h| !used.contains(&h.label)),
+    );
+    // Full fits, then cross-validation of the most promising.
+    let mut fitted = fit_in_full(engine, &cur, chosen);
+    let base_cost = fit::mean_sq(&cur.r0).min(
+        engine
+            .fit(&FitRequest::damping(current, damp, &engine.all))
+            .map_or(f64::INFINITY, |f| f.cost),
+    );
+    if !cur.large {
+        refit_with_deck_parameters(engine, &cur, &mut fitted);
+    }
+    let validated = validate_best(engine, &cur, &fitted, base_cost);
+    Ok(Round {
+        validated,
+        fitted,
+        localisation,
+        large: cur.large,
+    })
+}
+
+impl<'a> Current<'a> {
+    /// Solve the current model: its residual, its first elastic frequency
+    /// and the sensor nodes for the hypothesis generators.
+    fn new(
+        engine: &Engine,
+        deck: &'a Deck,
+        damp: &'a DampingState,
+        used: &'a [String],
+    ) -> Result<Self, DiagnoseError> {
+        let data = engine.data;
+        let mm = engine.model(deck)?;
+        let r0 = fit::residuals(
+            &fit::predict(&mm, damp.damping(), data, &engine.all),
+            data,
+            &engine.all,
+        );
+        let first_elastic = mm
+            .omega2
+            .iter()
+            .copied()
+            .find(|&w2| w2 > 1e-6 * mm.omega2.last().copied().unwrap_or(1.0).max(1e-300))
+            .unwrap_or(1.0)
+            .max(1e-12)
+            .sqrt();
+        let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+        let large = fe.dofs.len() > 200;
+        let mut sensor_nodes: Vec<u32> = data
+            .channels
+            .iter()
+            .map(|c| fe.sensors.get(&c.node).copied().unwrap_or(c.node))
+            .collect();
+        sensor_nodes.sort_unstable();
+        sensor_nodes.dedup();
+        let ctx = Context {
+            deck,
+            sensor_nodes,
+            total_mass: hypotheses::total_mass(deck),
+            free_free: !fe.has_fixed_dofs,
+            first_elastic_omega: first_elastic,
+        };
+        Ok(Current {
+            deck,
+            damp,
+            used,
+            r0,
+            ctx,
+            large,
+        })
+    }
+}
+
+/// Every candidate of the dictionary not yet accepted, each probed once.
+fn screen(engine: &Engine, cur: &Current) -> Screened {
+    let ctx = &cur.ctx;
+    let mut candidates: Vec<Hypothesis> = Vec::new();
+    candidates.extend(hypotheses::masses::sensor_mass(ctx));
+    candidates.extend(hypotheses::springs::support_flexibility(ctx));
+    candidates.extend(hypotheses::joint::joint_flexibility(ctx));
+    candidates.extend(hypotheses::masses::added_mass(ctx));
+    let suspension_singles = hypotheses::springs::suspension_single(ctx);
+    let n_main = candidates.len();
+    candidates.extend(suspension_singles);
+    candidates.retain(|h| !cur.used.contains(&h.label));
+    let probes = localise::probe(cur.deck, &cur.r0, cur.damp, engine.data, &candidates);
+    Screened {
+        n_main: n_main.min(candidates.len()),
+        candidates,
+        probes,
+    }
+}
+
+/// Node map: the best score at each node (single-node candidates), the ten
+/// highest, descending.
+fn node_localisation(screened: &Screened) -> Vec<(u32, f64, String)> {
+    let mut node_scores: BTreeMap<u32, (f64, String)> = BTreeMap::new();
+    for p in &screened.probes {
+        let h = &screened.candidates[p.index];
+        if h.nodes.len() != 1 {
+            continue;
+        }
+        let e = node_scores
+            .entry(h.nodes[0])
+            .or_insert((0.0, String::new()));
+        if p.score > e.0 {
+            *e = (p.score, h.label.clone());
+        }
+    }
+    let mut localisation: Vec<(u32, f64, String)> = node_scores
+        .into_iter()
+        .filter(|(_, (s, _))| *s > 0.0)
+        .map(|(n, (s, l))| (n, s, l))
+        .collect();
+    localisation.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    localisation.truncate(10);
+    localisation
+}
+
+/// Selection among the main classes: the best-scored candidates overall
+/// (half of `fitted_per_round`), plus the best two of each class.
+fn choose_by_score(screened: &Screened, fitted_per_round: usize) -> Vec<Hypothesis> {
+    let (candidates, probes, n_main) = (&screened.candidates, &screened.probes, screened.n_main);
+    let mut order: Vec<usize> = (0..candidates.len()).collect();
+    order.sort_by(|&a, &b| probes[b].score.total_cmp(&probes[a].score).then(a.cmp(&b)));
+    let mut chosen: Vec<Hypothesis> = Vec::new();
+    let main_order: Vec<usize> = order
+        .iter()
+        .copied()
+        .filter(|&i| i < n_main && candidates[i].physics != Physics::Suspension)
+        .collect();
+    for &i in main_order.iter().take(fitted_per_round / 2) {
+        if probes[i].score > 0.0 {
+            chosen.push(candidates[i].clone());
+        }
+    }
+    for class in [
+        Physics::SensorMass,
+        Physics::SupportFlexibility,
+        Physics::JointFlexibility,
+        Physics::AddedMass,
+    ] {
+        // A model far from the test can make every linear probe useless
+        // (score ≤ 0): the few support DOFs and the one sensor-mass
+        // hypothesis are then fitted anyway.
+        let in_class = main_order
+            .iter()
+            .filter(|&&i| candidates[i].physics == class)
+            .count();
+        let always = matches!(class, Physics::SensorMass | Physics::SupportFlexibility);
+        let take = if always && in_class <= 6 { in_class } else { 2 };
+        for &i in main_order
+            .iter()
+            .filter(|&&i| candidates[i].physics == class && (always || probes[i].score > 0.0))
+            .take(take)
+        {
+            if !chosen.iter().any(|c| c.label == candidates[i].label) {
+                chosen.push(candidates[i].clone());
+            }
+        }
+    }
+    chosen
+}
+
+/// Suspension of a free-free model: per direction (by their best
+/// single-spring score), same-stiffness spring sets by forward selection,
+/// and pairs of springs screened by a coarse fit.
+fn choose_suspension_springs(
+    engine: &Engine,
+    cur: &Current,
+    screened: &Screened,
+    chosen: &mut Vec<Hypothesis>,
+) {
+    let (candidates, probes, n_main) = (&screened.candidates, &screened.probes, screened.n_main);
+    let mut dirs: Vec<String> = Vec::new();
+    for c in &candidates[n_main..] {
+        let d = c.dofs[0].clone();
+        if !dirs.contains(&d) {
+            dirs.push(d);
+        }
+    }
+    // Directions by their best single-spring score; on larger models
+    // only the best direction gets the pair search.
+    let best_single = |d: &String| {
+        (n_main..candidates.len())
+            .filter(|&i| candidates[i].dofs[0] == *d)
+            .map(|i| probes[i].score)
+            .fold(0.0f64, f64::max)
+    };
+    dirs.sort_by(|a, b| best_single(b).total_cmp(&best_single(a)).then(a.cmp(b)));
+    for (di, d) in dirs.into_iter().enumerate() {
+        let set: Vec<&localise::Probe> = (n_main..candidates.len())
+            .filter(|&i| candidates[i].dofs[0] == d)
+            .map(|i| &probes[i])
+            .collect();
+        let picked = localise::forward_select(&cur.r0, &set, 4);
+        if picked.is_empty() {
+            continue;
+        }
+        let nodes: Vec<u32> = picked
+            .iter()
+            .map(|&k| candidates[set[k].index].nodes[0])
+            .collect();
+        let dof = match &candidates[set[0].index].extension {
+            hypotheses::Extension::GroundSprings { dof, .. } => *dof,
+            _ => continue,
+        };
+        for k in 1..=nodes.len() {
+            let mut set = nodes[..k].to_vec();
+            set.sort_unstable();
+            let h = hypotheses::springs::suspension(&cur.ctx, set, dof);
+            if !cur.used.contains(&h.label) {
+                chosen.push(h);
+            }
+        }
+        // Pairs of springs among the best-scored nodes (all nodes on
+        // small models), screened by a coarse fit: one spring leaves a
+        // rigid-body mode at 0 Hz, so linear probes rank pairs poorly.
+        let mut ranked: Vec<usize> = (0..set.len()).collect();
+        ranked.sort_by(|&a, &b| set[b].score.total_cmp(&set[a].score).then(a.cmp(&b)));
+        let top = if cur.large && di > 0 {
+            0
+        } else if cur.large {
+            ranked.len().min(5)
+        } else {
+            ranked.len().min(16)
+        };
+        let pool: Vec<u32> = ranked[..top]
+            .iter()
+            .map(|&k| candidates[set[k].index].nodes[0])
+            .collect();
+        let pairs = spring_pairs(engine, cur, &pool, dof, chosen);
+        chosen.extend(pairs);
+    }
+}
+
+/// The two pairs of same-stiffness springs in direction `dof` among the
+/// nodes of `pool` that fit best (coarse grid, 3 damping iterations); pairs
+/// already accepted or chosen are left out.
+fn spring_pairs(
+    engine: &Engine,
+    cur: &Current,
+    pool: &[u32],
+    dof: frfup_parsers::deck::DeckDof,
+    chosen: &[Hypothesis],
+) -> Vec<Hypothesis> {
+    let mut pairs: Vec<(f64, Hypothesis)> = Vec::new();
+    for a in 0..pool.len() {
+        for b in a + 1..pool.len() {
+            let mut ns = vec![pool[a], pool[b]];
+            ns.sort_unstable();
+            let h = hypotheses::springs::suspension(&cur.ctx, ns, dof);
+            if cur.used.contains(&h.label) || chosen.iter().any(|c| c.label == h.label) {
+                continue;
+            }
+            engine.damping_iterations.set(3);
+            let f = engine.fit(&FitRequest {
+                hypothesis: Some(&h),
+                search: LogSearch::over_bounds(5, 3),
+                with_std: false,
+                ..FitRequest::damping(cur.deck, cur.damp, &engine.all)
+            });
+            engine.damping_iterations.set(10);
+            if let Some(f) = f {
+                pairs.push((f.cost, h));
+            }
+        }
+    }
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pairs.into_iter().take(2).map(|(_, h)| h).collect()
+}
+
+/// Full fits of the chosen candidates (log grid and golden section; on
+/// small models also from the resonance-frequency stage, which finds the
+/// basin a coarse grid on the FRF misfit can miss), best cost first.
+fn fit_in_full(
+    engine: &Engine,
+    cur: &Current,
+    chosen: Vec<Hypothesis>,
+) -> Vec<(Hypothesis, HypFit)> {
+    let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
+        .into_iter()
+        .filter_map(|h| {
+            let grid = engine.fit(&FitRequest {
+                hypothesis: Some(&h),
+                search: LogSearch::over_bounds(9, 10),
+                with_std: true,
+                ..FitRequest::damping(cur.deck, cur.damp, &engine.all)
+            });
+            let seeded = if cur.large || h.param.is_none() {
+                None
+            } else {
+                frequency_seeded(engine, cur.deck, &h, cur.damp, grid.as_ref())
+            };
+            match (grid, seeded) {
+                (Some(g), Some(f)) if f.cost < g.cost => Some((h, f)),
+                (None, Some(f)) => Some((h, f)),
+                (g, _) => g.map(|g| (h, g)),
+            }
+        })
+        .collect();
+    fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+    fitted
+}
+
+/// The deck's own parameters may have absorbed part of the missing effect
+/// in the update: the three best candidates are fitted again with them free
+/// (decks with one to six parameters), kept where the cost falls.
+fn refit_with_deck_parameters(engine: &Engine, cur: &Current, fitted: &mut [(Hypothesis, HypFit)]) {
+    let np = cur.deck.params.len();
+    if !(1..=6).contains(&np) {
+        return;
+    }
+    for (h, f) in fitted.iter_mut().take(3) {
+        if h.param.is_none() {
+            continue;
+        }
+        let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
+        if let Some(g) = frequency_seeded_with(engine, &problem, cur.damp, Some(f)) {
+            if g.cost < f.cost {
+                *f = g;
+            }
+        }
+    }
+    fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+}
+
+/// Cross-validation of the five best fits that lower the cost below 97 % of
+/// `base_cost`: (hypothesis, fit, validation cost).
+fn validate_best(
+    engine: &Engine,
+    cur: &Current,
+    fitted: &[(Hypothesis, HypFit)],
+    base_cost: f64,
+) -> Vec<(Hypothesis, HypFit, f64)> {
+    let mut validated = Vec::new();
+    for (h, f) in fitted.iter().take(5) {
+        if !(f.cost < base_cost * 0.97) {
+            continue;
+        }
+        let v = if f.deck_values.is_empty() {
+            engine.validate(Some(h), cur.deck, f)
+        } else {
+            let problem = refit::Joint::with_deck_parameters(cur.deck, vec![h]);
+            let mut x = vec![f.log_value.unwrap_or(0.0)];
+            x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
+            let jf = refit::JointFit {
+                logs: vec![x[0]],
+                deck_values: f.deck_values.clone(),
+                x,
+                damping: f.damping.clone(),
+                cost: f.cost,
+                std_log: vec![],
+                on_bound: vec![],
+            };
+            refit::validate_joint(engine, &problem, &jf)
+        };
+        validated.push((h.clone(), f.clone(), v));
+    }
+    validated
+}
+
+/// A one-parameter fit of `h` through [`refit::fit_joint`]: 7 starts across
+/// its bounds (and the grid fit's optimum), resonance-frequency stage, then
+/// the FRFs.
+fn frequency_seeded(
+    engine: &Engine,
+    current: &Deck,
+    h: &Hypothesis,
+    damp: &DampingState,
+    grid: Option<&HypFit>,
+) -> Option<HypFit> {
+    frequency_seeded_with(engine, &refit::Joint::new(current, vec![h]), damp, grid)
+}
+
+/// As [`frequency_seeded`] for a one-extension problem that may fit the
+/// deck's parameters along (they start at 0).
+fn frequency_seeded_with(
+    engine: &Engine,
+    problem: &refit::Joint,
+    damp: &DampingState,
+    grid: Option<&HypFit>,
+) -> Option<HypFit> {
+    let (lo, hi) = problem.bounds();
+    let np = problem.deck_params.len();
+    let mut fixed = vec![None];
+    fixed.extend(std::iter::repeat_n(Some(0.0), np));
+    let mut starts = refit::grid_starts(&lo, &hi, &fixed, 7);
+    if let Some(s) = grid.and_then(|g| g.log_value) {
+        let mut x = vec![s];
+        x.extend(std::iter::repeat_n(0.0, np));
+        starts.push(x);
+    }
+    let settings = refit::JointSettings {
+        frequency_stage: true,
+        iterations: 10,
+    };
+    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)?;
+    let value = jf.logs[0].exp();
+    Some(HypFit {
+        value: Some(value),
+        log_value: Some(jf.logs[0]),
+        damping: jf.damping.clone(),
+        cost: jf.cost,
+        std: Some(jf.std_log[0] * value),
+        damping_std_log: vec![],
+        on_bound: jf.on_bound[0],
+        deck_values: jf.deck_values.clone(),
+    })
+}
