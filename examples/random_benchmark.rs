@@ -3,6 +3,7 @@
 //!   cargo run --release --features bench --example random_benchmark -- --cases 200 --seed 1 \
 //!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
 //!       [--update-arg ARG]...
+//!   random_benchmark --seed 1 --scatter 1 [--scatter 5]... --noise-seeds 20 [--noise F] --out DIR
 //!
 //! Generates the cases (frfup::benchmark) into DIR/case-NNN/ (model.deck,
 //! truth.deck, test.uff, truth.json), runs the release `frfup` binary as a
@@ -31,6 +32,11 @@ struct Args {
     generate_only: bool,
     /// Extra arguments of `frfup update` (none for the benchmark proper).
     update_args: Vec<String>,
+    /// Scatter mode: these cases, each run on `noise_seeds` noise draws.
+    scatter: Vec<usize>,
+    noise_seeds: usize,
+    /// Scatter mode: this noise fraction instead of the case's.
+    noise: Option<f64>,
 }
 
 fn parse_args() -> Result<Args, String> {
@@ -44,6 +50,9 @@ fn parse_args() -> Result<Args, String> {
         bounds: false,
         generate_only: false,
         update_args: Vec::new(),
+        scatter: Vec::new(),
+        noise_seeds: 20,
+        noise: None,
     };
     let mut it = std::env::args().skip(1);
     while let Some(flag) = it.next() {
@@ -58,6 +67,13 @@ fn parse_args() -> Result<Args, String> {
             "--bounds" => a.bounds = true,
             "--generate-only" => a.generate_only = true,
             "--update-arg" => a.update_args.push(value()?),
+            "--scatter" => a
+                .scatter
+                .push(value()?.parse().map_err(|_| "--scatter: a case index")?),
+            "--noise" => a.noise = Some(value()?.parse().map_err(|_| "--noise: a fraction")?),
+            "--noise-seeds" => {
+                a.noise_seeds = value()?.parse().map_err(|_| "--noise-seeds: a count")?
+            }
             other => return Err(format!("unknown argument {other:?}")),
         }
     }
@@ -69,7 +85,7 @@ fn main() {
     let args = match parse_args() {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--update-arg ARG]...");
+            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--update-arg ARG]... [--scatter CASE]... [--noise-seeds N] [--noise F]");
             std::process::exit(2);
         }
     };
@@ -132,13 +148,22 @@ struct Generated {
 }
 
 fn generate_case(args: &Args, i: usize) -> Result<Generated, String> {
+    let case = draw_case(args, i)?;
+    write_case(&case, &args.out.join(format!("case-{i:03}")), i)
+}
+
+/// Case `i` of the run.
+fn draw_case(args: &Args, i: usize) -> Result<frfup::benchmark::Case, String> {
     let opts = GenOptions {
         bounds: args.bounds,
         ..GenOptions::default()
     };
-    let seed = case_seed(args.seed, i as u64);
-    let case = generate(seed, &opts).map_err(|e| e.to_string())?;
-    let dir = args.out.join(format!("case-{i:03}"));
+    generate(case_seed(args.seed, i as u64), &opts).map_err(|e| e.to_string())
+}
+
+/// Write `case` (number `i`) into `dir`.
+fn write_case(case: &frfup::benchmark::Case, dir: &Path, i: usize) -> Result<Generated, String> {
+    let dir = dir.to_path_buf();
     case.write(&dir).map_err(|e| e.to_string())?;
     let record = RunRecord {
         case: format!("case-{i:03}"),
@@ -235,7 +260,65 @@ fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRec
     r
 }
 
+/// The scatter diagnostic: each case of `args.scatter` simulated again with
+/// `args.noise_seeds` noise draws (same structure, truth and layout), each
+/// updated with the defaults; per parameter, the empirical standard
+/// deviation of the estimates against the mean reported one, and the RMS
+/// of the z-scores (estimate − truth)/sd (1 when the reported sd is right).
+fn scatter(args: &Args, bin: &Path) -> Result<(), String> {
+    println!("| case | parameter | truth | mean estimate | empirical sd | mean reported sd | ratio | RMS z | inside ±2 sd |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for &i in &args.scatter {
+        let base = draw_case(args, i)?;
+        let runs = parallel(args.noise_seeds, args.jobs, |k| {
+            let mut case = base.clone();
+            case.seed = case_seed(base.seed, 1000 + k as u64);
+            case.noise = args.noise.unwrap_or(case.noise);
+            let dir = args.out.join(format!("case-{i:03}/noise-{k:02}"));
+            let g = write_case(&case, &dir, i)?;
+            run_case(bin, &g, args.timeout, &args.update_args);
+            let text =
+                std::fs::read_to_string(dir.join("out/report.json")).map_err(|e| e.to_string())?;
+            let report: serde_json::Value =
+                serde_json::from_str(&text).map_err(|e| e.to_string())?;
+            frfup::benchmark::score::report_estimates(&report).ok_or("no estimates".to_string())
+        });
+        let runs: Vec<_> = runs.into_iter().filter_map(Result::ok).collect();
+        for p in &base.params {
+            let est: Vec<(f64, f64)> = runs
+                .iter()
+                .filter_map(|r| r.iter().find(|e| e.name == p.name && e.identified))
+                .filter_map(|e| Some((e.value, e.sd?)))
+                .collect();
+            let n = est.len() as f64;
+            if est.len() < 2 {
+                continue;
+            }
+            let mean = est.iter().map(|e| e.0).sum::<f64>() / n;
+            let emp = (est.iter().map(|e| (e.0 - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            let rep = est.iter().map(|e| e.1).sum::<f64>() / n;
+            let z2 = est
+                .iter()
+                .map(|e| ((e.0 - p.value) / e.1).powi(2))
+                .sum::<f64>()
+                / n;
+            let inside = est
+                .iter()
+                .filter(|e| (e.0 - p.value).abs() <= 2.0 * e.1)
+                .count();
+            println!(
+                "| case-{i:03} | {} | {:.5} | {mean:.5} | {emp:.2e} | {rep:.2e} | {:.2} | {:.2} | {inside}/{} |",
+                p.name, p.value, emp / rep, z2.sqrt(), est.len()
+            );
+        }
+    }
+    Ok(())
+}
+
 fn run(args: &Args) -> Result<(), String> {
+    if !args.scatter.is_empty() {
+        return scatter(args, &frfup_binary(args)?);
+    }
     let bin = if args.generate_only {
         PathBuf::new()
     } else {

@@ -301,7 +301,7 @@ fn frf_stage(
     start.extend(damp.x.iter().copied());
     let out = fit::lm(&mut f, &start, &lo, &hi, iterations)?;
     let jac = fit::jacobian(&mut f, &out.x, &out.residuals, &lo, &hi)?;
-    let sd = fit::std_devs(&jac, &out.residuals);
+    let sd = fit::std_devs(jac.as_ref(), &out.residuals);
     Some((
         out.x[..n].to_vec(),
         fit::mean_sq(&out.residuals),

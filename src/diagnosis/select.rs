@@ -332,7 +332,7 @@ impl<'a> Engine<'a> {
         let big = vec![f64::INFINITY; d.x.len()];
         let small = vec![f64::NEG_INFINITY; d.x.len()];
         match fit::jacobian(&mut f, &d.x, &r, &small, &big) {
-            Some(j) => fit::std_devs(&j, &r),
+            Some(j) => fit::std_devs(j.as_ref(), &r),
             None => vec![f64::INFINITY; d.x.len()],
         }
     }
@@ -356,11 +356,7 @@ impl<'a> Engine<'a> {
         if r2.len() != r.len() {
             return None;
         }
-        let mut cols = vec![r2
-            .iter()
-            .zip(&r)
-            .map(|(a, b)| (a - b) / step)
-            .collect::<Vec<f64>>()];
+        let first: Vec<f64> = r2.iter().zip(&r).map(|(a, b)| (a - b) / step).collect();
         let form = d.form;
         let mut f = |x: &[f64]| {
             Some(fit::residuals(
@@ -371,8 +367,12 @@ impl<'a> Engine<'a> {
         };
         let big = vec![f64::INFINITY; d.x.len()];
         let small = vec![f64::NEG_INFINITY; d.x.len()];
-        cols.extend(fit::jacobian(&mut f, &d.x, &r, &small, &big)?);
-        let sd = fit::std_devs(&cols, &r);
+        let damping = fit::jacobian(&mut f, &d.x, &r, &small, &big)?;
+        let cols = faer::Mat::from_fn(r.len(), 1 + damping.ncols(), |i, j| match j {
+            0 => first[i],
+            _ => damping[(i, j - 1)],
+        });
+        let sd = fit::std_devs(cols.as_ref(), &r);
         Some((sd[0], sd[1..].to_vec()))
     }
 

@@ -15,7 +15,7 @@
 use frfup_parsers::deck::Deck;
 
 use super::fullband::data::TestData;
-use super::fullband::estimate::{estimate, EstimateRequest};
+use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate};
 use super::iterate::update_model;
 use super::{
     IterationRecord, StopReason, UpdateError, UpdateMethod, UpdateOptions, UpdateResult,
@@ -35,7 +35,66 @@ pub fn update_robust(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
-    let mut result = match update_model(&mut |v| model::build(deck, v), test, opts, progress) {
+    super::fullband::lap("start");
+    let mut result = first_stage(deck, test, opts, progress)?;
+    super::fullband::lap("first stage");
+    let (column, _) = crate::testdata::layout::as_column(test);
+    let data = test_data(deck, &column)?;
+    let np = result.parameter_names.len();
+    let est = estimate(&EstimateRequest {
+        deck,
+        data: &data,
+        starts: starts(&result, np),
+        max_iter: opts.estimate_iterations,
+    })
+    .map_err(UpdateError::Estimate)?;
+    super::fullband::lap("estimate");
+    let values = est.values();
+    let p_final: Vec<f64> = result
+        .parameter_names
+        .iter()
+        .map(|n| values.get(n).copied().unwrap_or(0.0))
+        .collect();
+    match score(deck, test, &values, &p_final, &result) {
+        Ok((record, fdac)) => {
+            super::fullband::lap("score");
+            progress(&record);
+            append_final(&mut result, record, fdac, &p_final);
+        }
+        // The estimate's parameters give no usable model (e.g. a mechanism
+        // once a stiffness sits at its lower bound): keep the first stage's
+        // result and say that the update did not converge.
+        Err(e) => {
+            result.converged = false;
+            result.stop = StopReason::Diverged;
+            result.warnings.push(UpdateWarning::EstimateRejected {
+                reason: e.to_string(),
+            });
+            result.estimate = Some(est);
+            return Ok(result);
+        }
+    }
+    result.converged = est.converged;
+    result.stop = if est.converged {
+        StopReason::Converged
+    } else {
+        StopReason::IterationLimit
+    };
+    estimate_warnings(&mut result.warnings, &est);
+    result.estimate = Some(est);
+    debug_assert_eq!(result.options.method, UpdateMethod::Robust);
+    Ok(result)
+}
+
+/// The paper's iteration with the robust options, falling back when it
+/// cannot run (see the arms).
+fn first_stage(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &UpdateOptions,
+    progress: &mut dyn FnMut(&IterationRecord),
+) -> Result<UpdateResult, UpdateError> {
+    match update_model(&mut |v| model::build(deck, v), test, opts, progress) {
         // No resonance stands out of the test's FRFs (heavy damping, a
         // sparse axis): place the first stage's updating frequencies around
         // the deck's own natural frequencies instead; the full-band estimate
@@ -48,7 +107,7 @@ pub fn update_robust(
                 frequencies_hz: Some(freqs),
                 ..opts.clone()
             };
-            update_model(&mut |v| model::build(deck, v), test, &o, progress)?
+            update_model(&mut |v| model::build(deck, v), test, &o, progress)
         }
         // A step of the first stage gave no usable model (a mechanism, a
         // failed eigen solution): the estimate starts from the deck alone.
@@ -62,61 +121,35 @@ pub fn update_robust(
             r.warnings.push(UpdateWarning::FirstStageStopped {
                 reason: e.to_string(),
             });
-            r
+            Ok(r)
         }
-        r => r?,
-    };
-    let (column, _) = crate::testdata::layout::as_column(test);
-    let data = test_data(deck, &column)?;
-    let np = result.parameter_names.len();
-    let est = estimate(&EstimateRequest {
-        deck,
-        data: &data,
-        starts: starts(&result, np),
-        max_iter: opts.estimate_iterations,
-    })
-    .map_err(UpdateError::Estimate)?;
-    let values = est.values();
-    let p_final: Vec<f64> = result
-        .parameter_names
+        r => r,
+    }
+}
+
+/// Append the final parameters' record (with the step from the first
+/// stage's result, Eq. 29 inverted) and make it the returned iteration.
+fn append_final(
+    result: &mut UpdateResult,
+    mut record: IterationRecord,
+    fdac: Vec<Vec<f64>>,
+    p_final: &[f64],
+) {
+    let prev = &result.final_record().parameters;
+    record.step = p_final
         .iter()
-        .map(|n| values.get(n).copied().unwrap_or(0.0))
-        .collect();
-    let record = match score(deck, test, &values, &p_final, &result) {
-        Ok(r) => r,
-        // The estimate's parameters give no usable model (e.g. a mechanism
-        // once a stiffness sits at its lower bound): keep the first stage's
-        // result and say that the update did not converge.
-        Err(e) => {
-            result.converged = false;
-            result.stop = StopReason::Diverged;
-            result.warnings.push(UpdateWarning::EstimateRejected {
-                reason: e.to_string(),
-            });
-            result.estimate = Some(est);
-            return Ok(result);
-        }
-    };
-    progress(&record.0);
-    let prev = result.final_record().parameters.clone();
-    let mut rec = record.0;
-    // The step from the first stage's result, composed (Eq. 29 inverted).
-    rec.step = p_final
-        .iter()
-        .zip(&prev)
+        .zip(prev)
         .map(|(f, p)| (f - p) / (1.0 + p))
         .collect();
-    result.iterations.push(rec);
+    result.iterations.push(record);
     result.final_iteration = result.iterations.len() - 1;
-    result.fdac_final = record.1;
-    result.converged = est.converged;
-    result.stop = if est.converged {
-        StopReason::Converged
-    } else {
-        StopReason::IterationLimit
-    };
-    // The first stage's own stopping warnings describe an intermediate result.
-    result.warnings.retain(|w| {
+    result.fdac_final = fdac;
+}
+
+/// The warnings of the estimate, in place of the first stage's own stopping
+/// warnings (they describe an intermediate result).
+fn estimate_warnings(warnings: &mut Vec<UpdateWarning>, est: &FullBandEstimate) {
+    warnings.retain(|w| {
         !matches!(
             w,
             UpdateWarning::NotConverged { .. }
@@ -125,14 +158,12 @@ pub fn update_robust(
         )
     });
     if !est.converged {
-        result.warnings.push(UpdateWarning::EstimateNotConverged {
+        warnings.push(UpdateWarning::EstimateNotConverged {
             iterations: est.iterations,
         });
     }
     if est.misfit > MISFIT_WARNING {
-        result
-            .warnings
-            .push(UpdateWarning::Misfit { ratio: est.misfit });
+        warnings.push(UpdateWarning::Misfit { ratio: est.misfit });
     }
     let unidentified: Vec<String> = est
         .parameters
@@ -141,7 +172,7 @@ pub fn update_robust(
         .map(|p| p.name.clone())
         .collect();
     if !unidentified.is_empty() {
-        result.warnings.push(UpdateWarning::NotIdentified {
+        warnings.push(UpdateWarning::NotIdentified {
             parameters: unidentified,
             directions: est
                 .missing_directions
@@ -150,9 +181,6 @@ pub fn update_robust(
                 .collect(),
         });
     }
-    result.estimate = Some(est);
-    debug_assert_eq!(result.options.method, UpdateMethod::Robust);
-    Ok(result)
 }
 
 /// (1 ± offset)·f_r for the deck's natural frequencies f_r inside the test's

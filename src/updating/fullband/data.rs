@@ -147,6 +147,30 @@ impl TestData {
         z[z.len() / 2].clamp(1e-4, 0.2)
     }
 
+    /// Weights from the model FRFs `model` (`[channel][line]`, measured
+    /// kind) instead of the measured ones: |H| in s = σ_c/(√2|H|) and in the
+    /// noise-floor test is then free of the noise, so that neither the
+    /// weight nor the choice of lines correlates with the residual it
+    /// multiplies (a weight from the noisy |H̃| does: w·ln|H/H̃| then has a
+    /// mean of order s, and Σ over many lines biases the estimate by
+    /// several of its standard deviations).
+    /// A point whose measured value is exactly zero (a channel the
+    /// excitation does not reach, simulated without noise) stays out: its
+    /// log residual is undefined.
+    pub fn reweight(&mut self, model: &[Vec<c64>]) {
+        let (mut w, mut n) = weights(model, &self.sigma);
+        for (c, v) in self.values.iter().enumerate() {
+            for (l, z) in v.iter().enumerate() {
+                if z.norm() == 0.0 {
+                    w[c][l] = 0.0;
+                    n[c][l] = 0.0;
+                }
+            }
+        }
+        self.weight = w;
+        self.noise_r2 = n;
+    }
+
     /// Drop channels (by index) that the model cannot place.
     pub fn retain_channels(&mut self, keep: &[bool]) {
         let mut i = 0;

@@ -15,7 +15,7 @@
 //! damping-profiled cost. Uncertainty: σ²(JᵀJ)⁻¹ at the optimum, with
 //! σ² = Σr²/(N − p).
 
-use faer::c64;
+use faer::{c64, Mat};
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
@@ -94,9 +94,16 @@ pub struct ModalSolution {
     pub signs: Vec<f64>,
 }
 
-/// The modal model of `fe` at the channels of `data`: the lowest modes up to
-/// 2.5·ω_max plus the static residual of the others.
-pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, DiagnoseError> {
+/// Where the test sits in a model: the excitation's equation, each channel's
+/// equation and its sign (response sign × excitation sign).
+pub struct Placement {
+    pub input: usize,
+    pub outputs: Vec<usize>,
+    pub signs: Vec<f64>,
+}
+
+/// The equations of `data`'s excitation and channels in `fe`.
+pub fn placement(fe: &FeModel, data: &TestData) -> Result<Placement, DiagnoseError> {
     let (input, in_sign) = fe.measured_dof(data.input.0, data.input.1).ok_or_else(|| {
         DiagnoseError::Data(format!(
             "the excitation {} is not a free DOF of the model",
@@ -115,10 +122,19 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
         outputs.push(eq);
         signs.push(s * in_sign);
     }
+    Ok(Placement {
+        input,
+        outputs,
+        signs,
+    })
+}
+
+/// The lowest modes of `fe` up to 2.5·ω_max of `data` (at least 40, or all).
+pub fn band_modes(fe: &FeModel, data: &TestData) -> Result<Modes, DiagnoseError> {
     let n = fe.dofs.len();
     let w_max = data.omegas.iter().fold(0.0f64, |a, w| a.max(*w));
     let mut count = 40usize.min(n);
-    let modes: Modes = loop {
+    loop {
         let opts = EigenOptions {
             count,
             expect_no_rigid_body_modes: fe.has_fixed_dofs,
@@ -128,10 +144,22 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
             .map_err(|e| DiagnoseError::Eigen(e.to_string()))?;
         let top = modes.omega2.last().copied().unwrap_or(0.0);
         if top >= (2.5 * w_max).powi(2) || count >= n {
-            break modes;
+            return Ok(modes);
         }
         count = (2 * count).min(n);
-    };
+    }
+}
+
+/// The modal model of `fe` at the channels of `data`: the lowest modes up to
+/// 2.5·ω_max plus the static residual of the others.
+pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, DiagnoseError> {
+    let Placement {
+        input,
+        outputs,
+        signs,
+    } = placement(fe, data)?;
+    let n = fe.dofs.len();
+    let modes = band_modes(fe, data)?;
     let (residual, residual_mass) = if modes.len() < n {
         frf::static_residual_terms(&fe.stiffness, &fe.mass, &modes, input, &outputs)
             .map_err(|e| DiagnoseError::Eigen(e.to_string()))?
@@ -335,6 +363,17 @@ impl DampingForm {
             DampingForm::Hysteretic => Damping::Hysteretic { eta: x[0].exp() },
         }
     }
+    /// ∂D/∂x_k of the damping term D(λ, ω) of [`denominator`] with respect
+    /// to the log parameters `x`: modal D = 2ζ√λ·ω (∂/∂ln ζ = D), Rayleigh
+    /// D = ω(α + βλ) (ωα, ωβλ), hysteretic D = ηλ (ηλ).
+    pub fn term_derivatives(self, x: &[f64], lam: f64, w: f64) -> [f64; 2] {
+        let l = lam.max(0.0);
+        match self {
+            DampingForm::Modal => [2.0 * x[0].exp() * l.sqrt() * w, 0.0],
+            DampingForm::Rayleigh => [w * x[0].exp(), w * x[1].exp() * lam],
+            DampingForm::Hysteretic => [x[0].exp() * l, 0.0],
+        }
+    }
     /// Log parameters giving about ζ at the centre of the band ω_c (rad/s).
     pub fn start(self, zeta: f64, w_c: f64) -> Vec<f64> {
         match self {
@@ -369,188 +408,23 @@ impl DampingForm {
     }
 }
 
-/// Outcome of a Levenberg–Marquardt run.
-#[derive(Clone, Debug)]
-pub struct LmOutcome {
-    pub x: Vec<f64>,
-    pub residuals: Vec<f64>,
-    /// The run stopped on its own criterion (relative cost change < 1e-7,
-    /// a step < 1e-6, or no downhill step at any λ: a stationary point),
-    /// not on the iteration limit.
-    pub converged: bool,
-    /// Jacobians evaluated.
-    pub iterations: usize,
-}
+pub use super::lm::{std_devs, LmOutcome};
 
-/// Bounded Levenberg–Marquardt on a few parameters (forward differences,
-/// step 1e-4 on the log scale, steps clamped to the bounds).
-pub fn lm<F>(mut f: F, x0: &[f64], lo: &[f64], hi: &[f64], max_iter: usize) -> Option<LmOutcome>
+/// Bounded Levenberg–Marquardt on `f` with forward differences
+/// ([`super::lm::lm`]).
+pub fn lm<F>(f: F, x0: &[f64], lo: &[f64], hi: &[f64], max_iter: usize) -> Option<LmOutcome>
 where
     F: FnMut(&[f64]) -> Option<Vec<f64>>,
 {
-    let mut fd = |f: &mut F, x: &[f64], r: &[f64]| jacobian(f, x, r, lo, hi);
-    lm_with(&mut f, &mut fd, x0, lo, hi, max_iter, 0.0)
+    super::lm::lm_differences(f, x0, lo, hi, max_iter)
 }
 
-/// [`lm`] with the Jacobian from `jac(f, x, r)` (columns ∂r/∂x_i); it also
-/// stops once a step lowers Σr² by less than `negligible` (e.g. a small
-/// fraction of the noise variance of one residual: a change no data can tell).
-pub fn lm_with<F, G>(
-    f: &mut F,
-    jac: &mut G,
-    x0: &[f64],
-    lo: &[f64],
-    hi: &[f64],
-    max_iter: usize,
-    negligible: f64,
-) -> Option<LmOutcome>
-where
-    F: FnMut(&[f64]) -> Option<Vec<f64>>,
-    G: FnMut(&mut F, &[f64], &[f64]) -> Option<Vec<Vec<f64>>>,
-{
-    let p = x0.len();
-    let mut x: Vec<f64> = (0..p).map(|i| x0[i].clamp(lo[i], hi[i])).collect();
-    let mut r = f(&x)?;
-    let mut cost: f64 = r.iter().map(|v| v * v).sum();
-    let mut lambda = 1e-3;
-    for it in 0..max_iter {
-        let jac = jac(f, &x, &r)?;
-        let (jtj, jtr) = normal(&jac, &r);
-        let mut improved = false;
-        for _ in 0..8 {
-            let mut a = jtj.clone();
-            for i in 0..p {
-                a[i][i] += lambda * jtj[i][i].max(1e-12);
-            }
-            let Some(step) = solve_small(a, jtr.iter().map(|v| -v).collect()) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let xn: Vec<f64> = (0..p)
-                .map(|i| (x[i] + step[i].clamp(-2.0, 2.0)).clamp(lo[i], hi[i]))
-                .collect();
-            let Some(rn) = f(&xn) else {
-                lambda *= 10.0;
-                continue;
-            };
-            let cn: f64 = rn.iter().map(|v| v * v).sum();
-            if cn < cost {
-                let rel = (cost - cn) / cost.max(1e-300);
-                let gain = cost - cn;
-                let moved = (0..p).map(|i| (xn[i] - x[i]).abs()).fold(0.0, f64::max);
-                x = xn;
-                r = rn;
-                cost = cn;
-                lambda = (lambda / 3.0).max(1e-9);
-                improved = true;
-                if rel < 1e-7 || moved < 1e-6 || gain < negligible {
-                    return Some(LmOutcome {
-                        x,
-                        residuals: r,
-                        converged: true,
-                        iterations: it + 1,
-                    });
-                }
-                break;
-            }
-            lambda *= 10.0;
-        }
-        if !improved {
-            return Some(LmOutcome {
-                x,
-                residuals: r,
-                converged: true,
-                iterations: it + 1,
-            });
-        }
-    }
-    Some(LmOutcome {
-        x,
-        residuals: r,
-        converged: false,
-        iterations: max_iter,
-    })
-}
-
-/// Forward-difference Jacobian columns ∂r/∂x_i (backward at an upper bound).
-pub fn jacobian<F>(f: &mut F, x: &[f64], r: &[f64], lo: &[f64], hi: &[f64]) -> Option<Vec<Vec<f64>>>
+/// Forward-difference Jacobian ∂r/∂x (step 1e-4, backward at an upper bound).
+pub fn jacobian<F>(f: &mut F, x: &[f64], r: &[f64], lo: &[f64], hi: &[f64]) -> Option<Mat<f64>>
 where
     F: FnMut(&[f64]) -> Option<Vec<f64>>,
 {
-    let mut cols = Vec::with_capacity(x.len());
-    for i in 0..x.len() {
-        let mut h = 1e-4;
-        if x[i] + h > hi[i] && x[i] - h >= lo[i] {
-            h = -h;
-        }
-        let mut xp = x.to_vec();
-        xp[i] += h;
-        let rp = f(&xp)?;
-        if rp.len() != r.len() {
-            return None;
-        }
-        cols.push(rp.iter().zip(r).map(|(a, b)| (a - b) / h).collect());
-    }
-    Some(cols)
-}
-
-fn normal(jac: &[Vec<f64>], r: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>) {
-    let p = jac.len();
-    let mut a = vec![vec![0.0; p]; p];
-    let mut b = vec![0.0; p];
-    for i in 0..p {
-        for j in 0..=i {
-            let s: f64 = jac[i].iter().zip(&jac[j]).map(|(u, v)| u * v).sum();
-            a[i][j] = s;
-            a[j][i] = s;
-        }
-        b[i] = jac[i].iter().zip(r).map(|(u, v)| u * v).sum();
-    }
-    (a, b)
-}
-
-/// Gaussian elimination with partial pivoting for a small dense system.
-pub fn solve_small(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    for k in 0..n {
-        let piv = (k..n).max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))?;
-        if !(a[piv][k].abs() > 1e-300) {
-            return None;
-        }
-        a.swap(k, piv);
-        b.swap(k, piv);
-        for i in k + 1..n {
-            let f = a[i][k] / a[k][k];
-            let (top, bottom) = a.split_at_mut(i);
-            for (x, y) in bottom[0][k..n].iter_mut().zip(&top[k][k..n]) {
-                *x -= f * y;
-            }
-            b[i] -= f * b[k];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for k in (0..n).rev() {
-        let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
-        x[k] = (b[k] - s) / a[k][k];
-    }
-    x.iter().all(|v| v.is_finite()).then_some(x)
-}
-
-/// Standard deviations of x from σ²(JᵀJ)⁻¹ with σ² = Σr²/(N − p).
-pub fn std_devs(jac: &[Vec<f64>], r: &[f64]) -> Vec<f64> {
-    let p = jac.len();
-    let (jtj, _) = normal(jac, r);
-    let dof = (r.len() as f64 - p as f64).max(1.0);
-    let s2 = r.iter().map(|v| v * v).sum::<f64>() / dof;
-    (0..p)
-        .map(|i| {
-            let mut e = vec![0.0; p];
-            e[i] = 1.0;
-            solve_small(jtj.clone(), e)
-                .map(|col| (s2 * col[i]).max(0.0).sqrt())
-                .unwrap_or(f64::INFINITY)
-        })
-        .collect()
+    super::lm::forward_differences(f, x, r, lo, hi, &vec![true; x.len()])
 }
 
 /// Current damping model of a fit: its form and log parameters.

@@ -1,0 +1,287 @@
+//! Bounded Levenberg–Marquardt: the one least-squares fitter of the full-band
+//! fit and of the diagnosis.
+//!
+//! Minimises Σ r_i(x)² within lo ≤ x ≤ hi. Step: (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr
+//! over the free unknowns (lo < hi), each component clamped to ±2 and the
+//! new point to the bounds; a step is taken only if it lowers the cost (λ
+//! then shrinks ×3), else λ grows ×10 (at most eight tries).
+
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, MatRef, Par, Side};
+
+/// A least-squares problem: residuals r(x) and their Jacobian.
+pub trait LeastSquares {
+    /// r(x), or `None` where the model cannot be evaluated (the step is refused).
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>>;
+    /// ∂r/∂x at `x` (rows of `r`, one column per unknown); columns of the
+    /// unknowns with `free[i]` false are not used and may be left zero.
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>>;
+    /// `x` was accepted. A problem that re-linearises there (a reduced model
+    /// moved to a new anchor) returns its residuals at `x`, which replace the
+    /// old ones.
+    fn accepted(&mut self, _x: &[f64]) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+/// Iteration limit and early stop of [`lm`].
+#[derive(Clone, Copy, Debug)]
+pub struct LmSettings {
+    pub max_iter: usize,
+    /// Stop once a step lowers Σr² by less than this (e.g. a small fraction
+    /// of the noise variance of one residual: a change no data can tell).
+    pub negligible: f64,
+}
+
+/// Outcome of a Levenberg–Marquardt run.
+#[derive(Clone, Debug)]
+pub struct LmOutcome {
+    pub x: Vec<f64>,
+    pub residuals: Vec<f64>,
+    /// The run stopped on its own criterion (relative cost change < 1e-7,
+    /// a step < 1e-6, a gain below `negligible`, or no downhill step at any
+    /// λ: a stationary point), not on the iteration limit.
+    pub converged: bool,
+    /// Jacobians evaluated.
+    pub iterations: usize,
+}
+
+fn cost(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+/// Run bounded Levenberg–Marquardt from `x0` (clamped to the bounds).
+pub fn lm(
+    problem: &mut dyn LeastSquares,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    settings: LmSettings,
+) -> Option<LmOutcome> {
+    let n = x0.len();
+    let free: Vec<bool> = (0..n).map(|i| lo[i] < hi[i]).collect();
+    let idx: Vec<usize> = (0..n).filter(|&i| free[i]).collect();
+    let mut x: Vec<f64> = (0..n).map(|i| x0[i].clamp(lo[i], hi[i])).collect();
+    let mut r = problem.residuals(&x)?;
+    let mut lambda = 1e-3;
+    let outcome = |x, residuals, converged, iterations| {
+        Some(LmOutcome {
+            x,
+            residuals,
+            converged,
+            iterations,
+        })
+    };
+    for it in 0..settings.max_iter {
+        if idx.is_empty() {
+            return outcome(x, r, true, it);
+        }
+        let jac = problem.jacobian(&x, &r, &free)?;
+        let (jtj, jtr) = normal_equations(jac.as_ref(), &r, &idx);
+        let c0 = cost(&r);
+        let mut accepted = None;
+        for _ in 0..8 {
+            let mut a = jtj.clone();
+            for k in 0..idx.len() {
+                a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
+            }
+            let Some(step) = solve_spd(a.as_ref(), &jtr) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let mut xn = x.clone();
+            for (k, &i) in idx.iter().enumerate() {
+                xn[i] = (x[i] - step[k].clamp(-2.0, 2.0)).clamp(lo[i], hi[i]);
+            }
+            match problem.residuals(&xn) {
+                Some(rn) if cost(&rn) < c0 => {
+                    accepted = Some((xn, rn));
+                    break;
+                }
+                _ => lambda *= 10.0,
+            }
+        }
+        let Some((xn, rn)) = accepted else {
+            return outcome(x, r, true, it + 1);
+        };
+        let cn = cost(&rn);
+        let moved = idx
+            .iter()
+            .map(|&i| (xn[i] - x[i]).abs())
+            .fold(0.0, f64::max);
+        let small = (c0 - cn) / c0.max(1e-300) < 1e-7 || moved < 1e-6;
+        let negligible = c0 - cn < settings.negligible;
+        x = xn;
+        r = problem.accepted(&x).unwrap_or(rn);
+        lambda = (lambda / 3.0).max(1e-9);
+        if small || negligible {
+            return outcome(x, r, true, it + 1);
+        }
+    }
+    outcome(x, r, false, settings.max_iter)
+}
+
+/// JᵀJ and Jᵀr over the columns `idx`.
+pub fn normal_equations(jac: MatRef<'_, f64>, r: &[f64], idx: &[usize]) -> (Mat<f64>, Vec<f64>) {
+    let sub = Mat::from_fn(jac.nrows(), idx.len(), |i, k| jac[(i, idx[k])]);
+    let mut jtj = Mat::<f64>::zeros(idx.len(), idx.len());
+    matmul(
+        jtj.as_mut(),
+        Accum::Replace,
+        sub.transpose(),
+        sub.as_ref(),
+        1.0,
+        Par::Seq,
+    );
+    let jtr = (0..idx.len())
+        .map(|k| (0..r.len()).map(|i| sub[(i, k)] * r[i]).sum())
+        .collect();
+    (jtj, jtr)
+}
+
+/// Solve A x = b for a symmetric positive definite A (Cholesky); `None` if
+/// A is not numerically positive definite or the solution is not finite.
+pub fn solve_spd(a: MatRef<'_, f64>, b: &[f64]) -> Option<Vec<f64>> {
+    let llt = a.llt(Side::Lower).ok()?;
+    let rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
+    let x = faer::linalg::solvers::Solve::solve(&llt, rhs.as_ref());
+    let x: Vec<f64> = (0..b.len()).map(|i| x[(i, 0)]).collect();
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+/// The inverse of a symmetric positive definite matrix, if it has one.
+pub fn inverse_spd(a: MatRef<'_, f64>) -> Option<Mat<f64>> {
+    let llt = a.llt(Side::Lower).ok()?;
+    let inv = faer::linalg::solvers::DenseSolveCore::inverse(&llt);
+    (0..inv.nrows())
+        .all(|i| (0..inv.ncols()).all(|j| inv[(i, j)].is_finite()))
+        .then_some(inv)
+}
+
+/// A residual function with its Jacobian by forward differences.
+pub struct Differences<F> {
+    pub f: F,
+    pub lo: Vec<f64>,
+    pub hi: Vec<f64>,
+}
+
+impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> LeastSquares for Differences<F> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        (self.f)(x)
+    }
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
+        forward_differences(&mut self.f, x, r, &self.lo, &self.hi, free)
+    }
+}
+
+/// Forward-difference Jacobian, step 1e-4 (backward at an upper bound); the
+/// columns of unknowns that are not `free` are zero.
+pub fn forward_differences<F>(
+    f: &mut F,
+    x: &[f64],
+    r: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    free: &[bool],
+) -> Option<Mat<f64>>
+where
+    F: FnMut(&[f64]) -> Option<Vec<f64>>,
+{
+    let mut jac = Mat::<f64>::zeros(r.len(), x.len());
+    for i in (0..x.len()).filter(|&i| free[i]) {
+        let h = if x[i] + 1e-4 > hi[i] && x[i] - 1e-4 >= lo[i] {
+            -1e-4
+        } else {
+            1e-4
+        };
+        let mut xp = x.to_vec();
+        xp[i] += h;
+        let rp = f(&xp)?;
+        if rp.len() != r.len() {
+            return None;
+        }
+        for (k, (a, b)) in rp.iter().zip(r).enumerate() {
+            jac[(k, i)] = (a - b) / h;
+        }
+    }
+    Some(jac)
+}
+
+/// Bounded Levenberg–Marquardt on `f` with forward differences (see [`lm`]).
+pub fn lm_differences<F>(
+    f: F,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+) -> Option<LmOutcome>
+where
+    F: FnMut(&[f64]) -> Option<Vec<f64>>,
+{
+    let mut problem = Differences {
+        f,
+        lo: lo.to_vec(),
+        hi: hi.to_vec(),
+    };
+    let settings = LmSettings {
+        max_iter,
+        negligible: 0.0,
+    };
+    lm(&mut problem, x0, lo, hi, settings)
+}
+
+/// Standard deviations of x from σ²(JᵀJ)⁻¹ with σ² = Σr²/(N − p) (∞ when
+/// JᵀJ is singular).
+pub fn std_devs(jac: MatRef<'_, f64>, r: &[f64]) -> Vec<f64> {
+    let p = jac.ncols();
+    let idx: Vec<usize> = (0..p).collect();
+    let (jtj, _) = normal_equations(jac, r, &idx);
+    let dof = (r.len() as f64 - p as f64).max(1.0);
+    let s2 = cost(r) / dof;
+    match inverse_spd(jtj.as_ref()) {
+        Some(inv) => (0..p).map(|i| (s2 * inv[(i, i)]).max(0.0).sqrt()).collect(),
+        None => vec![f64::INFINITY; p],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// y = a·exp(b·t) through exact data: LM finds (a, b) from a far start,
+    /// and holds a bound.
+    #[test]
+    fn fits_an_exponential_within_bounds() {
+        let t: Vec<f64> = (0..20).map(|i| i as f64 * 0.1).collect();
+        let f = |x: &[f64]| -> Option<Vec<f64>> {
+            Some(
+                t.iter()
+                    .map(|&ti| x[0] * (x[1] * ti).exp() - 2.0 * (-0.7 * ti).exp())
+                    .collect(),
+            )
+        };
+        let out = lm_differences(f, &[1.0, 0.0], &[0.0, -5.0], &[10.0, 5.0], 100).unwrap();
+        assert!(out.converged);
+        assert!(
+            (out.x[0] - 2.0).abs() < 1e-6 && (out.x[1] + 0.7).abs() < 1e-6,
+            "{:?}",
+            out.x
+        );
+        let out = lm_differences(f, &[1.0, 0.0], &[0.0, -0.5], &[10.0, 5.0], 100).unwrap();
+        assert!(
+            out.x[1] >= -0.5 && (out.x[1] + 0.5).abs() < 1e-12,
+            "{:?}",
+            out.x
+        );
+    }
+
+    /// σ²(JᵀJ)⁻¹ of a straight-line fit: sd of the slope s/√Σ(t − t̄)² etc.
+    #[test]
+    fn straight_line_standard_deviations() {
+        let jac = Mat::from_fn(4, 2, |i, j| if j == 0 { 1.0 } else { i as f64 });
+        let r = [0.1, -0.1, -0.1, 0.1];
+        let sd = std_devs(jac.as_ref(), &r);
+        let s2: f64 = 0.04 / 2.0;
+        assert!((sd[1] - (s2 / 5.0).sqrt()).abs() < 1e-12, "{sd:?}");
+    }
+}

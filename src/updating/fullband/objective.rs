@@ -1,0 +1,197 @@
+//! The residual function of the full-band estimate and its minimisation.
+//!
+//! F(x) = Σ_i r_i(x)² + Σ_j J₀ (p̄_j / s_j)², x = [p̄, damping logs]: the
+//! weighted log-FRF residuals of [`fit::residuals`] on the reduced model of
+//! [`super::reduced`], then one prior row √J₀·p̄_j/s_j per parameter with a
+//! prior. The reduced model is re-anchored (a new basis at the current p̄)
+//! once a step takes a property more than [`ANCHOR_DRIFT`] from the anchor,
+//! and at the end of each minimisation until the anchor sits at the optimum:
+//! there the reduced model's FRFs and Jacobian are the full model's.
+
+use faer::{c64, Mat};
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::estimate::ParameterPrior;
+use super::fit::{self, DampingForm, Mask};
+use super::jacobian::{self, Point};
+use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
+use super::reduced::{ReducedModel, ReducedModes};
+use super::FitError;
+
+/// Largest relative change of a property from the anchor before the basis
+/// is rebuilt.
+pub const ANCHOR_DRIFT: f64 = 0.05;
+/// Re-anchorings at the end of one minimisation, at most.
+const MAX_ANCHORS: usize = 4;
+
+/// The objective F on one data set.
+pub struct Objective<'a> {
+    pub deck: &'a Deck,
+    pub data: &'a TestData,
+    pub mask: Mask,
+    pub names: Vec<String>,
+    /// The priors in force (the first pass adds weak ones).
+    pub priors: Vec<ParameterPrior>,
+    pub form: DampingForm,
+    /// √J₀, the scale of a prior row.
+    pub prior_scale: f64,
+    pub reduced: Option<ReducedModel>,
+    /// The reduced solution at the last structural parameters.
+    pub cache: Option<(Vec<f64>, ReducedModes)>,
+    /// The model FRFs at the last x.
+    pub last: Option<(Vec<f64>, Vec<Vec<c64>>)>,
+    /// Full model solutions spent (one per anchor).
+    pub solutions: usize,
+}
+
+impl Objective<'_> {
+    /// Number of structural parameters.
+    pub fn np(&self) -> usize {
+        self.names.len()
+    }
+
+    /// Build the reduced model at structural parameters `p`.
+    pub fn anchor(&mut self, p: &[f64]) -> Result<(), FitError> {
+        self.solutions += 1;
+        self.cache = None;
+        self.last = None;
+        self.reduced = Some(ReducedModel::new(self.deck, &self.names, p, self.data)?);
+        Ok(())
+    }
+
+    /// The reduced solution at `p` (cached).
+    pub fn modes(&mut self, p: &[f64]) -> Option<&ReducedModes> {
+        if self.cache.as_ref().is_none_or(|(k, _)| k.as_slice() != p) {
+            let modes = self.reduced.as_ref()?.solve(p)?;
+            self.cache = Some((p.to_vec(), modes));
+        }
+        self.cache.as_ref().map(|c| &c.1)
+    }
+
+    /// Model FRFs at x (cached).
+    pub fn predict(&mut self, x: &[f64]) -> Option<&Vec<Vec<c64>>> {
+        if self.last.as_ref().is_none_or(|(k, _)| k.as_slice() != x) {
+            let np = self.np();
+            let damping = self.form.damping(&x[np..]);
+            let (data, mask) = (self.data, self.mask.clone());
+            let modes = self.modes(&x[..np])?;
+            let pred = fit::predict(&modes.model, damping, data, &mask);
+            self.last = Some((x.to_vec(), pred));
+        }
+        self.last.as_ref().map(|l| &l.1)
+    }
+
+    /// Residual rows that come from the data (the rest are prior rows).
+    pub fn data_rows(&self, total: usize) -> usize {
+        total - self.priors.iter().filter(|p| p.sd.is_some()).count()
+    }
+}
+
+impl LeastSquares for Objective<'_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        let data = self.data;
+        self.predict(x)?;
+        let pred = &self.last.as_ref()?.1;
+        let mut r = fit::residuals(pred, data, &self.mask);
+        for (j, pr) in self.priors.iter().enumerate() {
+            if let Some(sd) = pr.sd {
+                r.push(self.prior_scale * x[j] / sd);
+            }
+        }
+        Some(r)
+    }
+
+    /// Analytic columns of [`jacobian::columns`], then the prior rows.
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
+        let np = self.np();
+        self.predict(x)?;
+        let pt = Point {
+            model: self.reduced.as_ref()?,
+            modes: &self.cache.as_ref()?.1,
+            form: self.form,
+            damping: &x[np..],
+            pred: &self.last.as_ref()?.1,
+        };
+        let data_jac = jacobian::columns(&pt, self.data, &self.mask, free);
+        let data_n = data_jac.nrows();
+        if self.data_rows(r.len()) != data_n {
+            return None;
+        }
+        let mut jac = Mat::<f64>::zeros(r.len(), x.len());
+        jac.as_mut().subrows_mut(0, data_n).copy_from(&data_jac);
+        let mut row = data_n;
+        for (j, pr) in self.priors.iter().enumerate() {
+            if let Some(sd) = pr.sd {
+                jac[(row, j)] = self.prior_scale / sd;
+                row += 1;
+            }
+        }
+        Some(jac)
+    }
+
+    fn accepted(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        let np = self.np();
+        if self.reduced.as_ref()?.drift(&x[..np]) <= ANCHOR_DRIFT {
+            return None;
+        }
+        self.anchor(&x[..np]).ok()?;
+        self.residuals(x)
+    }
+}
+
+/// Minimise F from `x0` within [lo, hi] (an unknown with lo = hi is held):
+/// Levenberg–Marquardt on the reduced model anchored at `x0`, then again
+/// from each optimum with the anchor moved there, until a run no longer
+/// lowers F by `negligible`.
+pub fn minimise(
+    obj: &mut Objective,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+    negligible: f64,
+) -> Result<LmOutcome, FitError> {
+    let np = obj.np();
+    let fresh = obj.reduced.as_ref().is_none_or(|m| m.anchor != x0[..np]);
+    if fresh {
+        obj.anchor(&x0[..np])?;
+    }
+    let settings = LmSettings {
+        max_iter,
+        negligible,
+    };
+    let failed = || FitError::Eigen("the reduced model could not be solved".into());
+    let mut out = lm::lm(obj, x0, lo, hi, settings).ok_or_else(failed)?;
+    for _ in 0..MAX_ANCHORS {
+        let anchored = obj
+            .reduced
+            .as_ref()
+            .is_some_and(|m| m.anchor == out.x[..np]);
+        if anchored || out.iterations >= max_iter {
+            break;
+        }
+        obj.anchor(&out.x[..np])?;
+        let c0: f64 = obj
+            .residuals(&out.x)
+            .ok_or_else(failed)?
+            .iter()
+            .map(|v| v * v)
+            .sum();
+        let left = LmSettings {
+            max_iter: max_iter - out.iterations,
+            negligible,
+        };
+        let again = lm::lm(obj, &out.x, lo, hi, left).ok_or_else(failed)?;
+        let gain = c0 - again.residuals.iter().map(|v| v * v).sum::<f64>();
+        let iterations = out.iterations + again.iterations;
+        out = LmOutcome {
+            iterations,
+            ..again
+        };
+        if gain < negligible {
+            break;
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,399 @@
+//! The model of the full-band estimate on a Ritz basis fixed at an anchor.
+//!
+//! T = [Φ | S] (n × m): the lowest modes Φ at the anchor p̄ₐ (up to 2.5·ω_max,
+//! as [`fit::modal_solution`]) and the static responses to a unit load at
+//! the excitation and at each channel, x = (K − σM)⁻¹ P e with P = I − MΦΦᵀ
+//! (σ < 0 tiny, as [`frf::static_residual_terms`]), with the excitation's
+//! second Krylov vector (K − σM)⁻¹ M x̄; S is deflated of Φ and
+//! M-orthonormalised. With K(p̄) = Kₐ + Σ_j (p̄_j − p̄ₐ_j) ∂K/∂p̄_j (exact
+//! where the properties enter linearly: Euler–Bernoulli beams, masses,
+//! springs) and likewise M, the reduced pencil is K_r = TᵀK(p̄)T,
+//! M_r = TᵀM(p̄)T (m × m).
+//!
+//! At the anchor its lowest eigenpairs are the modes Φ and its upper ones
+//! carry the left-out modes' static residual at every channel (R0) and its
+//! first frequency term at the excitation (R1): its FRFs are those of
+//! [`fit::predict`]. Its eigenvector derivatives, expanded over all m of its
+//! modes, are exact for the reduced model and hold the static part of ∂φ at
+//! the channels (the channels' static responses are in the basis), which a
+//! modal expansion over Φ alone misses. Away from the anchor it is a
+//! Rayleigh–Ritz approximation (eigenvalues to second order in p̄ − p̄ₐ), so
+//! the estimate moves its anchor as it goes ([`super::estimate`]).
+
+use faer::linalg::matmul::matmul;
+use faer::sparse::linalg::matmul::sparse_dense_matmul;
+use faer::{Accum, Mat, MatRef, Par, Side};
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::fit::{self, ModalModel};
+use super::FitError;
+use crate::model::{self, ParameterValues, SparseMatrix};
+use crate::solvers::eigen::{self, lanczos::ShiftedCholesky};
+
+/// The reduced pencil and its derivatives at one anchor.
+pub struct ReducedModel {
+    /// p̄ of the anchor (deck order).
+    pub anchor: Vec<f64>,
+    k: Mat<f64>,
+    m: Mat<f64>,
+    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T per parameter.
+    dk: Vec<Mat<f64>>,
+    dm: Vec<Mat<f64>>,
+    /// Rows of T at each channel's DOF (times the channel's sign), then at
+    /// the excitation: (channels + 1) × m.
+    rows: Mat<f64>,
+    /// DOFs of the full model.
+    dofs: usize,
+}
+
+/// The eigen solution of the reduced pencil at some p̄.
+pub struct ReducedModes {
+    /// The modal model (every reduced mode, no residual terms).
+    pub model: ModalModel,
+    /// Ψ (m × m), M_r-orthonormal, ascending eigenvalues.
+    pub shapes: Mat<f64>,
+    /// The modes at the channels and the excitation: rows of T times Ψ.
+    pub at_dofs: Mat<f64>,
+}
+
+impl ReducedModel {
+    /// Build the deck at p̄ = `p` (names in deck order) and its basis.
+    pub fn new(
+        deck: &Deck,
+        names: &[String],
+        p: &[f64],
+        data: &TestData,
+    ) -> Result<ReducedModel, FitError> {
+        let values: ParameterValues = names.iter().cloned().zip(p.iter().copied()).collect();
+        let built = model::updated_deck(deck, &values);
+        let fe = model::build(&built, &ParameterValues::new()).map_err(FitError::Model)?;
+        let place = fit::placement(&fe, data)?;
+        let mut modes = fit::band_modes(&fe, data)?;
+        let n = fe.dofs.len();
+        if modes.len() < n && modes.len() + place.outputs.len() + 2 >= n {
+            // The static block would fill (nearly) all that the modes leave:
+            // every mode is cheaper and exact.
+            modes = all_modes(&fe)?;
+        }
+        let basis = ritz_basis(&fe.stiffness, &fe.mass, &modes.shapes, &place)?;
+        let project = |s: &SparseMatrix, scale: f64| project(s, basis.as_ref(), scale);
+        // ∂K/∂p̄ = ∂K/∂q · ∂q/∂p̄ with q the relative change of the deck as
+        // built: (1 + q) = (1 + p̄)/(1 + p̄ₐ).
+        let chain: Vec<f64> = p.iter().map(|v| 1.0 / (1.0 + v)).collect();
+        let mut rows = Mat::<f64>::zeros(place.outputs.len() + 1, basis.ncols());
+        for (c, &eq) in place.outputs.iter().enumerate() {
+            for r in 0..basis.ncols() {
+                rows[(c, r)] = place.signs[c] * basis[(eq, r)];
+            }
+        }
+        for r in 0..basis.ncols() {
+            rows[(place.outputs.len(), r)] = basis[(place.input, r)];
+        }
+        Ok(ReducedModel {
+            anchor: p.to_vec(),
+            k: project(&fe.stiffness, 1.0),
+            m: project(&fe.mass, 1.0),
+            dk: fe
+                .parameters
+                .iter()
+                .zip(&chain)
+                .map(|(q, &c)| project(&q.dk, c))
+                .collect(),
+            dm: fe
+                .parameters
+                .iter()
+                .zip(&chain)
+                .map(|(q, &c)| project(&q.dm, c))
+                .collect(),
+            rows,
+            dofs: fe.dofs.len(),
+        })
+    }
+
+    /// Number of basis vectors m.
+    pub fn size(&self) -> usize {
+        self.k.nrows()
+    }
+
+    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T.
+    pub fn derivative(&self, j: usize) -> (MatRef<'_, f64>, MatRef<'_, f64>) {
+        (self.dk[j].as_ref(), self.dm[j].as_ref())
+    }
+
+    /// Largest relative change of a property between the anchor and `p`:
+    /// max_j |p̄_j − p̄ₐ_j| / (1 + p̄ₐ_j).
+    pub fn drift(&self, p: &[f64]) -> f64 {
+        p.iter()
+            .zip(&self.anchor)
+            .map(|(v, a)| (v - a).abs() / (1.0 + a))
+            .fold(0.0, f64::max)
+    }
+
+    /// Eigen solution of K_r(p̄) ψ = λ M_r(p̄) ψ (Cholesky of M_r, then a
+    /// symmetric eigenproblem); `None` if M_r is not positive definite.
+    pub fn solve(&self, p: &[f64]) -> Option<ReducedModes> {
+        let mut k = self.k.clone();
+        let mut m = self.m.clone();
+        for (j, (&v, &a)) in p.iter().zip(&self.anchor).enumerate() {
+            let d = v - a;
+            if d != 0.0 {
+                k += &self.dk[j] * d;
+                m += &self.dm[j] * d;
+            }
+        }
+        let l = m.llt(Side::Lower).ok()?.L().to_owned();
+        // C = L⁻¹ K L⁻ᵀ.
+        let mut x = k;
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+            l.as_ref(),
+            x.as_mut(),
+            Par::Seq,
+        );
+        let mut c = x.transpose().to_owned();
+        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+            l.as_ref(),
+            c.as_mut(),
+            Par::Seq,
+        );
+        let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
+        let mut shapes = eig.U().to_owned();
+        faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+            l.transpose(),
+            shapes.as_mut(),
+            Par::Seq,
+        );
+        let omega2: Vec<f64> = (0..shapes.ncols()).map(|r| eig.S()[r]).collect();
+        if omega2.iter().any(|v| !v.is_finite()) {
+            return None;
+        }
+        let at_dofs = &self.rows * &shapes;
+        let nc = at_dofs.nrows() - 1;
+        let coeff = (0..nc)
+            .map(|c| {
+                (0..shapes.ncols())
+                    .map(|r| at_dofs[(c, r)] * at_dofs[(nc, r)])
+                    .collect()
+            })
+            .collect();
+        let frequencies_hz = omega2
+            .iter()
+            .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
+            .collect();
+        Some(ReducedModes {
+            model: ModalModel {
+                omega2,
+                coeff,
+                residual: vec![0.0; nc],
+                residual_mass: vec![0.0; nc],
+                frequencies_hz,
+                dofs: self.dofs,
+            },
+            shapes,
+            at_dofs,
+        })
+    }
+}
+
+/// Every mode of `fe` (a small model).
+fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
+    let opts = eigen::EigenOptions {
+        count: fe.dofs.len(),
+        expect_no_rigid_body_modes: fe.has_fixed_dofs,
+        ..eigen::EigenOptions::default()
+    };
+    eigen::lowest_modes(&fe.stiffness, &fe.mass, &opts).map_err(|e| FitError::Eigen(e.to_string()))
+}
+
+/// scale·TᵀST for a sparse symmetric S: only the rows of T where S has
+/// entries take part (a parameter's ∂K touches a few elements).
+fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
+    let mut st = Mat::<f64>::zeros(s.nrows(), t.ncols());
+    sparse_dense_matmul(st.as_mut(), Accum::Replace, s.as_ref(), t, 1.0, Par::Seq);
+    let sym = s.symbolic();
+    let mut support: Vec<usize> = (0..s.ncols())
+        .flat_map(|c| sym.row_idx_of_col_raw(c).iter().copied())
+        .collect();
+    support.sort_unstable();
+    support.dedup();
+    let tr = Mat::from_fn(support.len(), t.ncols(), |i, k| t[(support[i], k)]);
+    let sr = Mat::from_fn(support.len(), t.ncols(), |i, k| st[(support[i], k)]);
+    let mut out = Mat::<f64>::zeros(t.ncols(), t.ncols());
+    matmul(
+        out.as_mut(),
+        Accum::Replace,
+        tr.transpose(),
+        sr.as_ref(),
+        scale,
+        Par::Seq,
+    );
+    symmetrise(out)
+}
+
+/// (A + Aᵀ)/2: a projected symmetric matrix, symmetric to rounding.
+fn symmetrise(a: Mat<f64>) -> Mat<f64> {
+    Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
+/// T = [Φ | S] with S the M-orthonormal static block (see the module doc).
+fn ritz_basis(
+    k: &SparseMatrix,
+    m: &SparseMatrix,
+    phi: &Mat<f64>,
+    place: &fit::Placement,
+) -> Result<Mat<f64>, FitError> {
+    let n = k.nrows();
+    if phi.ncols() >= n {
+        return Ok(phi.clone());
+    }
+    let eig_err = |e: String| FitError::Eigen(e);
+    let scale = eigen::pencil_scale(k, m).map_err(|e| eig_err(e.to_string()))?;
+    let chol =
+        ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio).map_err(|e| eig_err(e.to_string()))?;
+    let mass = |x: MatRef<'_, f64>| {
+        let mut y = Mat::<f64>::zeros(n, x.ncols());
+        sparse_dense_matmul(y.as_mut(), Accum::Replace, m.as_ref(), x, 1.0, Par::Seq);
+        y
+    };
+    // x ← x − Φ(ΦᵀMx): M-orthogonal to the computed modes.
+    let deflate = |x: &mut Mat<f64>| {
+        let c = phi.transpose() * mass(x.as_ref());
+        *x -= phi * &c;
+    };
+    let mut dofs = vec![place.input];
+    dofs.extend(place.outputs.iter().copied());
+    let mut e = Mat::<f64>::zeros(n, dofs.len());
+    for (c, &d) in dofs.iter().enumerate() {
+        e[(d, c)] = 1.0;
+    }
+    // P e = e − MΦ(Φᵀe): the load the left-out modes carry.
+    let mphi = mass(phi.as_ref());
+    e -= &mphi * (phi.transpose() * &e);
+    let mut x = chol.solve(e.as_ref());
+    // Directions of S whose M-norm after deflation is below 1e-10 of the
+    // largest before it lie in the span of Φ (to rounding): dropped.
+    let before = symmetrise(x.transpose() * mass(x.as_ref()));
+    let norm0 = (0..before.nrows()).fold(0.0f64, |a, i| a.max(before[(i, i)]));
+    deflate(&mut x);
+    let mut second = chol.solve(mass(x.as_ref().subcols(0, 1)).as_ref());
+    deflate(&mut second);
+    let s = Mat::from_fn(n, x.ncols() + 1, |i, c| {
+        if c < x.ncols() {
+            x[(i, c)]
+        } else {
+            second[(i, 0)]
+        }
+    });
+    // M-orthonormalise S: G = SᵀMS = VDVᵀ, S ← S V D^{-1/2}, dropping
+    // directions with D below 1e-10 of the largest M-norm before deflation
+    // (repeated DOFs, e.g. a driving point, or a static response the modes
+    // already span).
+    let g = symmetrise(s.transpose() * mass(s.as_ref()));
+    let eig = g
+        .self_adjoint_eigen(Side::Lower)
+        .map_err(|e| eig_err(format!("{e:?}")))?;
+    let d: Vec<f64> = (0..g.nrows()).map(|i| eig.S()[i]).collect();
+    let top = d.iter().fold(norm0, |a, v| a.max(*v));
+    let keep: Vec<usize> = (0..d.len()).filter(|&i| d[i] > 1e-10 * top).collect();
+    let v = Mat::from_fn(g.nrows(), keep.len(), |i, k| {
+        eig.U()[(i, keep[k])] / d[keep[k]].sqrt()
+    });
+    let mut s = &s * &v;
+    deflate(&mut s);
+    Ok(Mat::from_fn(n, phi.ncols() + s.ncols(), |i, c| {
+        if c < phi.ncols() {
+            phi[(i, c)]
+        } else {
+            s[(i, c - phi.ncols())]
+        }
+    }))
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::super::fit::{predict, Mask};
+    use super::*;
+    use crate::model::Damping;
+    use crate::testdata::{Channel, FrfKind, MeasuredFrfs};
+    use faer::c64;
+    use frfup_parsers::deck::parse;
+
+    /// A free-free beam on soft springs, 4 channels (the Jacobian test's).
+    pub(crate) fn beam() -> (Deck, TestData) {
+        let mut text = String::from(
+            "analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n",
+        );
+        for i in 1..=9 {
+            text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
+        }
+        for i in 1..=8 {
+            text += &format!("beam {i} {i} {} st s\n", i + 1);
+        }
+        text += "mass 1 9 m=0.2\nspring 1 1 z k=500\nspring 2 9 z k=500\n";
+        text += "damping modal 0.02\nparam left E 1-4\nparam right Iy 5-8\nparam tip m 1\nparam sup k 1-2\n";
+        let deck = parse(&text).unwrap();
+        let fe = model::build(&deck, &ParameterValues::new()).unwrap();
+        let lines: Vec<f64> = (1..=300).map(|i| i as f64 * 2.0).collect();
+        let input = fe.measured_dof(9, 3).unwrap().0;
+        let omegas: Vec<f64> = lines
+            .iter()
+            .map(|f| 2.0 * std::f64::consts::PI * f)
+            .collect();
+        let nodes = [3u32, 5, 7, 9];
+        let outputs: Vec<usize> = nodes
+            .iter()
+            .map(|&n| fe.measured_dof(n, 3).unwrap().0)
+            .collect();
+        let h = crate::solvers::frf::direct_receptance(
+            &fe.stiffness,
+            &fe.mass,
+            Damping::Modal { zeta: 0.02 },
+            &omegas,
+            input,
+            &outputs,
+        );
+        let channels = nodes
+            .iter()
+            .enumerate()
+            .map(|(o, &node)| Channel {
+                response_node: node as i64,
+                response_direction: 3,
+                reference_node: 9,
+                reference_direction: 3,
+                // Accelerance, 1 % off the model so that residuals are not zero.
+                values: (0..omegas.len())
+                    .map(|l| h[(o, l)] * (-omegas[l] * omegas[l]) * c64::new(1.01, 0.005))
+                    .collect(),
+            })
+            .collect();
+        let test = MeasuredFrfs {
+            frequencies_hz: lines,
+            kind: FrfKind::Accelerance,
+            channels,
+        };
+        (deck, TestData::new(&test).unwrap())
+    }
+
+    /// At its anchor the reduced model's FRFs are the full modal model's
+    /// (modes plus R0 + ω²R1) to within a small part of the 1 % floor.
+    #[test]
+    fn reduced_frfs_match_the_modal_model_at_the_anchor() {
+        let (deck, data) = beam();
+        let names = model::parameter_names(&deck);
+        let p = [0.1, -0.05, 0.2, 0.0];
+        let red = ReducedModel::new(&deck, &names, &p, &data).unwrap();
+        let values: ParameterValues = names.iter().cloned().zip(p).collect();
+        let full = fit::modal_model(&model::updated_deck(&deck, &values), &data).unwrap();
+        let damping = Damping::Modal { zeta: 0.02 };
+        let mask = Mask::all(&data);
+        let a = predict(&red.solve(&p).unwrap().model, damping, &data, &mask);
+        let b = predict(&full, damping, &data, &mask);
+        let mut worst = 0.0f64;
+        for (ac, bc) in a.iter().zip(&b) {
+            for (x, y) in ac.iter().zip(bc) {
+                worst = worst.max(((x - y).norm() / y.norm()).min(1.0));
+            }
+        }
+        assert!(worst < 1e-3, "largest relative difference {worst:e}");
+    }
+}
