@@ -11,7 +11,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 use frfup::commands::progress::{Progress, StepReporter};
 use frfup::commands::{self, convert};
 use frfup::tasks::update::Thresholds;
-use frfup::tasks::{self, update, CommandError};
+use frfup::tasks::{update, CommandError};
 use frfup::testdata::FrfKind;
 use frfup::updating::options::finite;
 use frfup::updating::{UpdateMethod, UpdateSettings};
@@ -61,6 +61,8 @@ enum Command {
 struct Global {
     quiet: bool,
     verbose: bool,
+    /// `--strict`: any warning about an input is an error.
+    strict: bool,
     progress: Progress,
 }
 
@@ -253,10 +255,10 @@ impl ToKind {
 }
 
 fn run(cli: Cli) -> Result<(), CommandError> {
-    tasks::set_strict(cli.strict);
     let g = Global {
         quiet: cli.quiet,
         verbose: cli.verbose,
+        strict: cli.strict,
         progress: Progress::detect(cli.quiet),
     };
     match cli.command {
@@ -302,6 +304,7 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
         channels: a.channels,
         binary: a.binary,
         progress: g.progress,
+        strict: g.strict,
     })?;
     if !g.quiet {
         for note in &summary.notes {
@@ -374,6 +377,7 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         test: a.test,
         out: a.out.clone(),
         options: a.settings.resolve(UpdateMethod::Robust),
+        strict: g.strict,
     };
     let reporter = StepReporter::new(g.quiet, cmd.options.max_iter as u64 + 1, "iteration");
     let result = update::run(&cmd, &mut |rec| {
@@ -404,6 +408,7 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
             max_findings: a.max_findings,
             ..Default::default()
         },
+        strict: g.strict,
     };
     let d = commands::diagnose::run(&cmd)?;
     if g.verbose {
@@ -436,6 +441,7 @@ fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
             jobs: a.jobs,
             shard,
             thresholds: a.thresholds,
+            strict: g.strict,
         },
         &|c, n, total| {
             let line = format!("[{n}/{total}] {}", case_line(c));

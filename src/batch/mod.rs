@@ -30,6 +30,8 @@ pub struct BatchOptions {
     pub shard: Option<Shard>,
     /// Thresholds from the command line: override the campaign file's, not a case's own.
     pub thresholds: Thresholds,
+    /// `--strict`: a warning about a case's input makes the case an error.
+    pub strict: bool,
 }
 
 /// How a case ended.
@@ -136,13 +138,14 @@ impl BatchSummary {
 }
 
 /// Run one case into `dir`.
-pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds) -> CaseSummary {
+pub fn run_case(case: &Case, dir: &Path, thresholds: Thresholds, strict: bool) -> CaseSummary {
     let start = Instant::now();
     let cmd = UpdateCommand {
         deck: case.model.clone(),
         test: case.test.clone(),
         out: dir.to_path_buf(),
         options: case.options.clone(),
+        strict,
     };
     let outcome = std::panic::catch_unwind(|| update_task::run(&cmd, &mut |_| {}));
     let wall_time_s = start.elapsed().as_secs_f64();
@@ -219,7 +222,7 @@ pub fn run(
     let defaults = opts.thresholds.or(campaign.thresholds);
     // The case folders and the summaries land together (`fsio::write_folder`).
     crate::fsio::write_folder(&opts.out, |dir| -> Result<BatchSummary, CommandError> {
-        let cases = run_cases(&cases, dir, defaults, opts.jobs, on_done);
+        let cases = run_cases(&cases, dir, defaults, opts, on_done);
         let summary = BatchSummary {
             skipped_by_shard: campaign.cases.len() - cases.len(),
             cases,
@@ -234,19 +237,25 @@ fn run_cases(
     cases: &[&Case],
     dir: &Path,
     defaults: Thresholds,
-    jobs: usize,
+    opts: &BatchOptions,
     on_done: &(dyn Fn(&CaseSummary, usize, usize) + Sync),
 ) -> Vec<CaseSummary> {
+    let strict = opts.strict;
     let results: Mutex<Vec<Option<CaseSummary>>> = Mutex::new(vec![None; cases.len()]);
     let next = AtomicUsize::new(0);
     let done = AtomicUsize::new(0);
-    let jobs = jobs.clamp(1, cases.len().max(1));
+    let jobs = opts.jobs.clamp(1, cases.len().max(1));
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(case) = cases.get(i) else { break };
-                let summary = run_case(case, &dir.join(&case.name), case.thresholds.or(defaults));
+                let summary = run_case(
+                    case,
+                    &dir.join(&case.name),
+                    case.thresholds.or(defaults),
+                    strict,
+                );
                 let n = done.fetch_add(1, Ordering::SeqCst) + 1;
                 on_done(&summary, n, cases.len());
                 if let Ok(mut r) = results.lock() {

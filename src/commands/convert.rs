@@ -27,6 +27,8 @@ pub struct ConvertOptions {
     pub channels: Option<String>,
     pub binary: bool,
     pub progress: Progress,
+    /// `--strict`: a warning about the input is an error.
+    pub strict: bool,
 }
 
 /// What `convert` did, for the one-line summary.
@@ -148,7 +150,7 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let notes = testdata::from_uff_with_notes(&file, &opts.input)
         .map(|l| l.notes)
         .unwrap_or_else(|_| file.notes.clone());
-    warn_notes(&opts.input, &notes)?;
+    warn_notes(&opts.input, &notes, opts.strict)?;
     let selected = select(&file, opts.channels.as_deref())?;
     if selected.is_empty() {
         return Err(CommandError::input(format!(

@@ -47,6 +47,7 @@ pub fn run(
             test,
             out: out.to_path_buf(),
             options: demo_options(),
+            strict: false,
         };
         run_into(&cmd, dir, &shown, progress)
     })?;

@@ -16,6 +16,8 @@ pub struct DiagnoseCommand {
     pub test: PathBuf,
     pub out: PathBuf,
     pub options: DiagnoseOptions,
+    /// `--strict`: a warning about an input is an error.
+    pub strict: bool,
 }
 
 /// Run a diagnosis and write its files into `out`.
@@ -23,7 +25,7 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
     check_model_for_modes(&cmd.deck, &deck)?;
-    let (test, notes) = load_test_with_notes(&cmd.test)?;
+    let (test, notes) = load_test_with_notes(&cmd.test, cmd.strict)?;
     let notes: Vec<String> = notes
         .iter()
         .map(|n| format!("{}: {n}", cmd.test.display()))

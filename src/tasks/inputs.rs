@@ -3,22 +3,14 @@
 
 use super::CommandError;
 
-static STRICT: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// `--strict`: from now on any warning about an input is an error (exit 2).
-pub fn set_strict(strict: bool) {
-    STRICT.store(strict, std::sync::atomic::Ordering::Relaxed);
-}
-
-/// Whether `--strict` is on.
-pub fn strict() -> bool {
-    STRICT.load(std::sync::atomic::Ordering::Relaxed)
-}
-
 /// Print what was noticed in the input `path` (data skipped or doubtful) on
-/// stderr as `warning: FILE: NOTE` lines, whatever `--quiet` says. Under
-/// `--strict` any such note is an error naming the file (exit 2).
-pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), CommandError> {
+/// stderr as `warning: FILE: NOTE` lines, whatever `--quiet` says. With
+/// `strict` (`--strict`) any such note is an error naming the file (exit 2).
+pub fn warn_notes(
+    path: &std::path::Path,
+    notes: &[String],
+    strict: bool,
+) -> Result<(), CommandError> {
     if notes.is_empty() {
         return Ok(());
     }
@@ -27,7 +19,7 @@ pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), Comman
         use std::io::Write;
         let _ = writeln!(err, "warning: {}: {note}", path.display());
     }
-    if strict() {
+    if strict {
         return Err(CommandError::input(format!(
             "{}: {} warning(s) and --strict: refused (first: {})",
             path.display(),
@@ -40,17 +32,21 @@ pub fn warn_notes(path: &std::path::Path, notes: &[String]) -> Result<(), Comman
 
 /// Load test data (FRF records of a UFF file) and report on stderr what was
 /// skipped or doubtful while reading them (see [`warn_notes`]).
-pub fn load_test(path: &std::path::Path) -> Result<crate::testdata::MeasuredFrfs, CommandError> {
-    load_test_with_notes(path).map(|(frfs, _)| frfs)
+pub fn load_test(
+    path: &std::path::Path,
+    strict: bool,
+) -> Result<crate::testdata::MeasuredFrfs, CommandError> {
+    load_test_with_notes(path, strict).map(|(frfs, _)| frfs)
 }
 
 /// [`load_test`], also returning the notes (for the reports).
 pub fn load_test_with_notes(
     path: &std::path::Path,
+    strict: bool,
 ) -> Result<(crate::testdata::MeasuredFrfs, Vec<String>), CommandError> {
     let loaded =
         crate::testdata::load_with_notes(path).map_err(|e| CommandError::input(e.to_string()))?;
-    warn_notes(path, &loaded.notes)?;
+    warn_notes(path, &loaded.notes, strict)?;
     Ok((loaded.frfs, loaded.notes))
 }
 

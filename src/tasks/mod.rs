@@ -10,7 +10,7 @@ pub mod update;
 
 pub use inputs::{
     check_model_for_modes, eigen_error, load_test, load_test_with_notes, model_error,
-    name_mechanism_equations, read_deck, set_strict, strict, warn_notes,
+    name_mechanism_equations, read_deck, warn_notes,
 };
 
 /// A failed task (a command, a case of a batch): what to print and which

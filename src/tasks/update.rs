@@ -47,6 +47,8 @@ pub struct UpdateCommand {
     pub test: PathBuf,
     pub out: PathBuf,
     pub options: UpdateOptions,
+    /// `--strict`: a warning about an input is an error.
+    pub strict: bool,
 }
 
 /// What an update produced, for summaries and thresholds.
@@ -129,7 +131,7 @@ pub fn run_into(
     let deck = read_deck(&cmd.deck)?;
     super::check_model_for_modes(&cmd.deck, &deck)?;
     lap("read deck", &mut timings);
-    let (test, notes) = super::load_test_with_notes(&cmd.test)?;
+    let (test, notes) = super::load_test_with_notes(&cmd.test, cmd.strict)?;
     lap("read test data", &mut timings);
     let result =
         updating::update_with_progress(&deck, &test, &cmd.options, progress).map_err(|e| {

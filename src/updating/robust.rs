@@ -35,9 +35,7 @@ pub fn update_robust(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
-    super::fullband::lap("start");
     let mut result = first_stage(deck, test, opts, progress)?;
-    super::fullband::lap("first stage");
     let (column, _) = crate::testdata::layout::as_column(test);
     let data = test_data(deck, &column)?;
     let np = result.parameter_names.len();
@@ -48,7 +46,6 @@ pub fn update_robust(
         max_iter: opts.estimate_iterations,
     })
     .map_err(UpdateError::Estimate)?;
-    super::fullband::lap("estimate");
     let values = est.values();
     let p_final: Vec<f64> = result
         .parameter_names
@@ -57,7 +54,6 @@ pub fn update_robust(
         .collect();
     match score(deck, test, &values, &p_final, &result) {
         Ok((record, fdac)) => {
-            super::fullband::lap("score");
             progress(&record);
             append_final(&mut result, record, fdac, &p_final);
         }

@@ -168,15 +168,12 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         solutions: 0,
     };
     let (start, mut p, mut damp) = best_start(&mut obj, &req.starts, &damp0)?;
-    super::lap("starts");
     let (coarse_stage, spent) =
         coarse::coarse_frequencies(req.deck, req.data, &names, &priors, &mut p, &mut damp);
     obj.solutions += spent;
     let (lo, hi) = bounds(&priors, damp.form, req.data);
     let x0 = [p, damp.x].concat();
-    super::lap("coarse");
     let first = first_pass(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
-    super::lap("pass 1");
     let mut weighted = req.data.clone();
     let pred = obj
         .predict(&first.out.x)
@@ -189,7 +186,6 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         ..obj
     };
     let second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
-    super::lap("pass 2");
     let data_n = obj.data_rows(second.out.residuals.len());
     // Against the noise level, but never below that of 0.1 % noise: on
     // (nearly) noise-free data any model error would look enormous.

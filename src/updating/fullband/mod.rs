@@ -40,21 +40,3 @@ impl fmt::Display for FitError {
 }
 
 impl std::error::Error for FitError {}
-
-/// Wall-clock laps of the update's stages on stderr when the environment
-/// variable `FRFUP_TIMING` is set (a profile without a profiler).
-#[doc(hidden)]
-pub fn lap(name: &str) {
-    use std::sync::Mutex;
-    use std::time::Instant;
-    static LAST: Mutex<Option<Instant>> = Mutex::new(None);
-    if std::env::var_os("FRFUP_TIMING").is_none() {
-        return;
-    }
-    let now = Instant::now();
-    if let Ok(mut last) = LAST.lock() {
-        let since = last.map_or(0.0, |t| (now - t).as_secs_f64());
-        eprintln!("timing {name:<30} {since:.3} s");
-        *last = Some(now);
-    }
-}
