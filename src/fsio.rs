@@ -227,18 +227,32 @@ impl Drop for Temporary {
     }
 }
 
-/// Remove every temporary file or folder still being written.
+/// Remove every temporary file or folder still being written. The writing
+/// thread goes on until the process exits and may recreate a subfolder that
+/// was just removed (a run's `frf/` charts), so removal is repeated until
+/// every path has stayed gone for three checks 5 ms apart (at most 0.5 s).
 pub fn remove_temporaries() {
     let list = match TEMPORARIES.lock() {
         Ok(mut list) => std::mem::take(&mut *list),
         Err(_) => return,
     };
-    for p in list {
-        if p.is_dir() {
-            let _ = std::fs::remove_dir_all(&p);
-        } else {
-            let _ = std::fs::remove_file(&p);
+    let mut quiet_checks = 0;
+    for _ in 0..100 {
+        let mut any = false;
+        for p in &list {
+            if p.is_dir() {
+                any = true;
+                let _ = std::fs::remove_dir_all(p);
+            } else if p.exists() {
+                any = true;
+                let _ = std::fs::remove_file(p);
+            }
         }
+        quiet_checks = if any { 0 } else { quiet_checks + 1 };
+        if quiet_checks >= 3 {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
     }
 }
 

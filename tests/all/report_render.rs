@@ -69,6 +69,25 @@ fn run(channels: &[u32]) -> (Deck, MeasuredFrfs, UpdateResult) {
     (deck, test, result)
 }
 
+/// The report of `result` written into `dir`, its model states evaluated
+/// as the update task does.
+fn report_into(
+    dir: &Path,
+    result: &UpdateResult,
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    inputs: &ReportInputs,
+) -> Result<Vec<PathBuf>, frfup::report::ReportError> {
+    write_report(
+        dir,
+        result,
+        &model_states(result, deck, test),
+        deck,
+        test,
+        inputs,
+    )
+}
+
 fn inputs() -> ReportInputs {
     ReportInputs {
         deck_path: "fixtures/paper/cantilever.deck".into(),
@@ -90,15 +109,7 @@ fn report_files_are_complete_and_deterministic() {
     // A channel chart of an earlier, larger run must not survive.
     std::fs::create_dir_all(dir.join("frf")).unwrap();
     std::fs::write(dir.join("frf/99-old.svg"), "<svg/>").unwrap();
-    let files = write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs(),
-    )
-    .unwrap();
+    let files = report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
     assert!(!dir.join("frf/99-old.svg").exists());
     for name in [
         "convergence.svg",
@@ -122,15 +133,7 @@ fn report_files_are_complete_and_deterministic() {
         assert!(dir.join(name).is_file(), "{name}");
     }
     let before: Vec<Vec<u8>> = files.iter().map(|p| std::fs::read(p).unwrap()).collect();
-    let again = write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs(),
-    )
-    .unwrap();
+    let again = report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
     assert_eq!(files, again);
     for (p, b) in again.iter().zip(&before) {
         assert_eq!(
@@ -192,15 +195,7 @@ fn single_channel_and_degenerate_results_still_report() {
     match update(&deck, &test, &UpdateOptions::paper()) {
         Ok(result) => {
             let dir = out_dir("single");
-            write_report(
-                &dir,
-                &result,
-                &model_states(&result, &deck, &test),
-                &deck,
-                &test,
-                &inputs(),
-            )
-            .unwrap();
+            report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
             assert!(dir.join("frf/01-16+z_16+z.svg").is_file());
         }
         Err(e) => {
@@ -219,26 +214,10 @@ fn single_channel_and_degenerate_results_still_report() {
     result.iterations[0].sfdac.mean = f64::NAN;
     result.resonances.clear();
     let dir = out_dir("degenerate");
-    write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs(),
-    )
-    .unwrap();
+    report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
     // No iterations at all.
     result.iterations.clear();
-    write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs(),
-    )
-    .unwrap();
+    report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
     let html = String::from_utf8(read(&dir, "report.html")).unwrap();
     assert!(html.contains("no iteration"));
 }
@@ -250,15 +229,7 @@ fn every_chart_renders_to_a_png() {
     }
     let (deck, test, result) = run(&(2..=16).collect::<Vec<_>>());
     let dir = out_dir("png");
-    let files = write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs(),
-    )
-    .unwrap();
+    let files = report_into(&dir, &result, &deck, &test, &inputs()).unwrap();
     let svgs: Vec<&PathBuf> = files
         .iter()
         .filter(|p| p.extension().is_some_and(|e| e == "svg"))
@@ -287,15 +258,7 @@ fn garteur_report() {
         command: None,
         input_notes: Vec::new(),
     };
-    let files = write_report(
-        &dir,
-        &result,
-        &model_states(&result, &deck, &test),
-        &deck,
-        &test,
-        &inputs,
-    )
-    .unwrap();
+    let files = report_into(&dir, &result, &deck, &test, &inputs).unwrap();
     if rsvg_available() {
         for svg in files
             .iter()
