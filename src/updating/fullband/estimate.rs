@@ -185,7 +185,25 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         prior_scale: j0.sqrt(),
         ..obj
     };
-    let second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
+    let mut first = first;
+    let mut second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
+    // A parameter left free that still ends above its identification limit
+    // is not identified either: it is held at the deck's value and the pass
+    // repeated (a number the data do not support never reaches updated.deck).
+    for _ in 0..3 {
+        let np = names.len();
+        let newly: Vec<usize> = (0..np)
+            .filter(|&j| second.free[j] && second.sd[j] > identification_limit(&priors[j]))
+            .collect();
+        if newly.is_empty() {
+            break;
+        }
+        for &j in &newly {
+            first.seen.sd_data[j] = first.seen.sd_data[j].max(second.sd[j]);
+        }
+        first.unseen.extend(newly);
+        second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
+    }
     let data_n = obj.data_rows(second.out.residuals.len());
     // Against the noise level, but never below that of 0.1 % noise: on
     // (nearly) noise-free data any model error would look enormous.
