@@ -274,3 +274,44 @@ pub fn remove_temporaries_on_signals() {
             }
         });
 }
+
+/// A number as every CSV file writes it: the shortest text that reads back
+/// to the same f64, plain decimal for 1e-4 ≤ |x| < 1e6 (`0.1143`,
+/// `2.5`), else `1.234e-5`; zero is `0` (never `-0` or `0e0`); NaN and
+/// infinities are empty cells.
+pub fn csv_number(x: f64) -> String {
+    if !x.is_finite() {
+        String::new()
+    } else if x == 0.0 {
+        "0".into()
+    } else if (1e-4..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+#[cfg(test)]
+mod csv_number_tests {
+    use super::csv_number;
+
+    /// Plain or scientific by magnitude, and every one reads back exactly.
+    #[test]
+    fn numbers_read_back_and_never_say_0e0() {
+        for (x, text) in [
+            (0.0, "0"),
+            (-0.0, "0"),
+            (0.11431826140688388, "0.11431826140688388"),
+            (-0.9, "-0.9"),
+            (10.0, "10"),
+            (1.5e-5, "1.5e-5"),
+            (2.0e7, "2e7"),
+            (f64::NAN, ""),
+        ] {
+            assert_eq!(csv_number(x), text);
+            if x.is_finite() {
+                assert_eq!(text.parse::<f64>().unwrap(), x);
+            }
+        }
+    }
+}

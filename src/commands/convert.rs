@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use frfup_parsers::uff::{Abscissa, Dataset, Function58, Ordinate, UffFile};
 
 use super::{progress::Progress, read_uff};
-use crate::fsio::write_atomic_with;
+use crate::fsio::{csv_number, write_atomic_with};
 use crate::tasks::{warn_notes, CommandError};
 use crate::testdata::{self, FrfKind, MeasuredFrfs};
 
@@ -361,12 +361,12 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
     let mut row: Vec<String> = Vec::with_capacity(header.len());
     for k in 0..n {
         row.clear();
-        row.push(format!("{:e}", first.abscissa_at(k)));
+        row.push(csv_number(first.abscissa_at(k)));
         for f in records {
             let (re, im) = f.ordinate.at(k);
-            row.push(format!("{re:e}"));
+            row.push(csv_number(re));
             if f.ordinate.is_complex() {
-                row.push(format!("{im:e}"));
+                row.push(csv_number(im));
             }
         }
         w.write_record(&row).map_err(|e| e.to_string())?;

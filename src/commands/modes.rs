@@ -97,8 +97,10 @@ pub fn csv_text(rows: &[ModeRow]) -> String {
     for r in rows {
         let _ = writeln!(
             s,
-            "{},{:e},{:e}",
-            r.mode, r.frequency_hz, r.generalised_mass
+            "{},{},{}",
+            r.mode,
+            crate::fsio::csv_number(r.frequency_hz),
+            crate::fsio::csv_number(r.generalised_mass)
         );
     }
     s

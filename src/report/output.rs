@@ -15,7 +15,7 @@ use frfup_parsers::deck::{self, Deck};
 use serde_json::{json, Map, Value};
 
 use super::tables::csv_text;
-use crate::fsio::write_atomic;
+use crate::fsio::{csv_number, write_atomic};
 use crate::model;
 use crate::updating::{IterationRecord, UpdateResult};
 
@@ -438,13 +438,13 @@ fn estimates_csv(est: &crate::updating::fullband::estimate::FullBandEstimate) ->
     let rows = est.parameters.iter().map(|p| {
         vec![
             p.name.clone(),
-            format!("{:e}", p.value),
-            format!("{:e}", p.sd),
+            csv_number(p.value),
+            csv_number(p.sd),
             p.identified.to_string(),
             p.at_bound.to_string(),
-            format!("{:e}", p.prior.min),
-            format!("{:e}", p.prior.max),
-            p.prior.sd.map(|v| format!("{v:e}")).unwrap_or_default(),
+            csv_number(p.prior.min),
+            csv_number(p.prior.max),
+            p.prior.sd.map(csv_number).unwrap_or_default(),
         ]
     });
     csv_text(std::iter::once(header.split(',').map(String::from).collect()).chain(rows))
