@@ -225,11 +225,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
                 inv_d[r] = d.inv();
             }
         }
-        let kind = match data.order {
-            0 => c64::new(1.0, 0.0),
-            1 => c64::new(0.0, w),
-            _ => c64::new(-w * w, 0.0),
-        };
+        let kind = crate::testdata::i_omega_power(w, data.order);
         for (c, o) in out.iter_mut().enumerate() {
             if !mask.channels[c] {
                 continue;
@@ -249,26 +245,19 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
     out
 }
 
-/// d_r(ω) = λ_r − ω² + i·D(λ_r, ω) of one mode and ∂d_r/∂λ_r, for each
-/// damping model: modal D = 2ζω_rω, Rayleigh D = ω(α + βλ_r), hysteretic
-/// D = ηλ_r (λ_r ≥ 0 taken for ω_r).
+/// d_r(ω) of one mode ([`Damping::modal_denominator`], λ_r = ω_r²) and
+/// ∂d_r/∂λ_r: modal ∂(2ζω_rω)/∂λ_r = ζω/ω_r, Rayleigh βω, hysteretic η (0
+/// where λ_r ≤ 0, which the damping term counts as 0).
 pub fn denominator(lam: f64, w: f64, damping: Damping) -> (c64, c64) {
     let wr = lam.max(0.0).sqrt();
-    match damping {
-        Damping::None => (c64::new(lam - w * w, 0.0), c64::new(1.0, 0.0)),
-        Damping::Modal { zeta } => (
-            c64::new(lam - w * w, 2.0 * zeta * wr * w),
-            c64::new(1.0, if wr > 0.0 { zeta * w / wr } else { 0.0 }),
-        ),
-        Damping::Rayleigh { alpha, beta } => (
-            c64::new(lam - w * w, w * (alpha + beta * lam)),
-            c64::new(1.0, beta * w),
-        ),
-        Damping::Hysteretic { eta } => (
-            c64::new(lam - w * w, lam.max(0.0) * eta),
-            c64::new(1.0, if lam > 0.0 { eta } else { 0.0 }),
-        ),
-    }
+    let slope = match damping {
+        Damping::None => 0.0,
+        Damping::Modal { zeta } if wr > 0.0 => zeta * w / wr,
+        Damping::Rayleigh { beta, .. } if lam > 0.0 => beta * w,
+        Damping::Hysteretic { eta } if lam > 0.0 => eta,
+        _ => 0.0,
+    };
+    (damping.modal_denominator(lam, w), c64::new(1.0, slope))
 }
 
 /// Weighted log residuals (magnitude and phase) over the masked points.

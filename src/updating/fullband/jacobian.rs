@@ -231,12 +231,7 @@ fn fill(
             let ratio = hm / data.values[c][l];
             if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
                 let w = data.omegas[l];
-                let kind = match data.order {
-                    0 => c64::new(1.0, 0.0),
-                    1 => c64::new(0.0, w),
-                    _ => c64::new(-w * w, 0.0),
-                };
-                let factor = kind / hm;
+                let factor = crate::testdata::i_omega_power(w, data.order) / hm;
                 let mut k = 0;
                 while let Some((src, dst)) = slot(c, k) {
                     let d = c64::new(dh.0[(i, src)], dh.1[(i, src)]) * factor;
