@@ -227,6 +227,17 @@ impl Drop for Temporary {
     }
 }
 
+/// Set by the signal thread when SIGINT or SIGTERM arrives (signals are
+/// process-wide; so is this flag).
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether SIGINT or SIGTERM has arrived: the process is being ended by the
+/// signal thread (exit 128 + N once the temporaries are gone), so `main`
+/// must not end it first with its own exit code.
+pub fn interrupted() -> bool {
+    INTERRUPTED.load(std::sync::atomic::Ordering::SeqCst)
+}
+
 /// Remove every temporary file or folder still being written. The writing
 /// thread goes on until the process exits and may recreate a subfolder that
 /// was just removed (a run's `frf/` charts), so removal is repeated until
@@ -269,6 +280,7 @@ pub fn remove_temporaries_on_signals() {
         .name("signals".into())
         .spawn(move || {
             if let Some(sig) = signals.forever().next() {
+                INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst);
                 remove_temporaries();
                 std::process::exit(128 + sig);
             }

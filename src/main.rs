@@ -582,7 +582,14 @@ fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
-    match run(cli) {
+    let result = run(cli);
+    // A signal's thread is removing the temporaries and will exit with
+    // 128 + N: the command's own ending (often an error, its files having
+    // vanished) must not pre-empt it.
+    while frfup::fsio::interrupted() {
+        std::thread::park();
+    }
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("frfup: {}", e.message);
