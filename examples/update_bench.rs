@@ -14,7 +14,6 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use faer::c64;
 use frfup::model::{self, FeModel, ParameterValues, SparseMatrix};
 use frfup::parsers::deck::{parse, Deck, IdRange, Param, Pos, Quantity, Sensor};
 use frfup::solvers::eigen::{lowest_modes, EigenOptions, Modes};
@@ -287,7 +286,7 @@ fn accelerance_test(
             reference_node: sensors[eqs.len() / 3] as i64,
             reference_direction: 3,
             values: (0..lines.len())
-                .map(|l| h[(i, l)] * c64::new(-omegas[l] * omegas[l], 0.0))
+                .map(|l| h[(i, l)] * FrfKind::Accelerance.from_receptance(omegas[l]))
                 .collect(),
         })
         .collect();

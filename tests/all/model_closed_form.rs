@@ -182,6 +182,24 @@ fn timoshenko_converges_to_exact() {
     assert!(errors[5] < 3e-6, "{:e}", errors[5]);
 }
 
+/// Mode `m` of a fixed-free bar of `n` linear elements over length `l` has
+/// the relative frequency error `e` = (kh)²/24 to (kh)²/40 relative, with
+/// k = (2m − 1)π/(2l) and h = l/n (see `axial_bar_fixed_free`).
+fn linear_element_error_is_kh2_over_24(what: &str, m: usize, e: f64, l: f64, n: usize) {
+    let k = (2 * m - 1) as f64 * PI / (2.0 * l);
+    let kh2 = (k * l / n as f64).powi(2);
+    let predicted = kh2 / 24.0;
+    println!(
+        "{what} mode {m}: rel. error {e:.3e}, (kh)²/24 = {predicted:.3e}, ratio {:.6}",
+        e / predicted
+    );
+    assert!(
+        (e / predicted - 1.0).abs() < kh2 / 40.0,
+        "{}",
+        e / predicted
+    );
+}
+
 #[test]
 fn axial_bar_fixed_free() {
     let (l, a) = (3.0, 1e-3);
@@ -196,18 +214,7 @@ fn axial_bar_fixed_free() {
         // cos kh))/kh = 1 + (kh)²/24 + (kh)⁴/1920 + …, so the error is the
         // leading term to (kh)²/80 relative (measured 1.9e-5, 1.7e-4, 4.8e-4
         // for (kh)² = 0.0015, 0.014, 0.039); bound twice that.
-        let k = (2 * m - 1) as f64 * PI / (2.0 * l);
-        let predicted = (k * l / n as f64).powi(2) / 24.0;
-        println!(
-            "axial bar mode {m}: rel. error {e:.3e}, (kh)²/24 = {predicted:.3e}, ratio {:.6}",
-            e / predicted
-        );
-        let kh2 = (k * l / n as f64).powi(2);
-        assert!(
-            (e / predicted - 1.0).abs() < kh2 / 40.0,
-            "{}",
-            e / predicted
-        );
+        linear_element_error_is_kh2_over_24("axial bar", m, e, l, n);
     }
 }
 
@@ -228,19 +235,8 @@ fn torsional_bar_fixed_free() {
     for m in 1..=3 {
         let exact = (2 * m - 1) as f64 * PI / (2.0 * l) * c / (2.0 * PI);
         let e = rel(f[m - 1], exact);
-        let k = (2 * m - 1) as f64 * PI / (2.0 * l);
-        let predicted = (k * l / n as f64).powi(2) / 24.0;
-        println!(
-            "torsional bar mode {m}: rel. error {e:.3e}, (kh)²/24 = {predicted:.3e}, ratio {:.6}",
-            e / predicted
-        );
         // As the axial bar (the same equation with G/ρ).
-        let kh2 = (k * l / n as f64).powi(2);
-        assert!(
-            (e / predicted - 1.0).abs() < kh2 / 40.0,
-            "{}",
-            e / predicted
-        );
+        linear_element_error_is_kh2_over_24("torsional bar", m, e, l, n);
     }
 }
 
