@@ -35,6 +35,12 @@ impl Modes {
             .map(|w2| w2.max(0.0).sqrt() / (2.0 * std::f64::consts::PI))
             .collect()
     }
+    /// The shapes at the equations `dofs`, [mode][dof]: what a sensor layout sees.
+    pub fn at(&self, dofs: &[usize]) -> Vec<Vec<f64>> {
+        (0..self.shapes.ncols().min(self.omega2.len()))
+            .map(|r| dofs.iter().map(|&i| self.shapes[(i, r)]).collect())
+            .collect()
+    }
     pub fn len(&self) -> usize {
         self.omega2.len()
     }

@@ -264,14 +264,7 @@ fn view(
         Err(e) => return fail(format!("modes: {e}")),
     };
     let modes_hz = modes.frequencies_hz();
-    let shapes: Vec<Vec<f64>> = (0..modes.len())
-        .map(|r| {
-            meas.equations
-                .iter()
-                .map(|&j| modes.shapes[(j, r)])
-                .collect()
-        })
-        .collect();
+    let shapes = modes.at(&meas.equations);
     let input = meas.equations[meas.excitation_row];
     let omegas: Vec<f64> = meas.lines_hz.iter().map(|f| TWO_PI * f).collect();
     let (receptance, error) = match choice {

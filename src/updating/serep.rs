@@ -94,10 +94,7 @@ impl SerepBasis {
             return Err(SerepError::DofOutOfRange { index, dofs: n });
         }
         let n_ex = measured.len();
-        let n_modes = modes.shapes.ncols().min(modes.omega2.len());
-        let cols: Vec<Vec<f64>> = (0..n_modes)
-            .map(|r| measured.iter().map(|&i| modes.shapes[(i, r)]).collect())
-            .collect();
+        let cols = modes.at(measured);
         if cols.iter().flatten().any(|v| !v.is_finite()) {
             return Err(SerepError::NonFinite);
         }

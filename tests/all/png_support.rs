@@ -13,15 +13,32 @@ pub fn rsvg_available() -> bool {
         .output()
         .map(|o| o.status.success())
         .unwrap_or(false);
-    if !ok {
+    tool_present(ok, "rsvg-convert", "librsvg2-bin", "PNG rendering")
+}
+
+/// `found` as is, with a note naming the skipped `checks` when false; under
+/// CI (`CI=true`) a missing tool fails the test instead: a check that
+/// silently does nothing is not a check.
+pub fn tool_present(found: bool, tool: &str, package: &str, checks: &str) -> bool {
+    if !found {
         let under_ci = std::env::var("CI").is_ok_and(|v| v == "true");
         assert!(
             !under_ci,
-            "rsvg-convert not found under CI=true: install librsvg2-bin (.ci/run does)"
+            "{tool} not found under CI=true: install Debian's {package} (.ci/run does)"
         );
-        eprintln!("note: rsvg-convert not found, PNG rendering skipped (scripts/render_png.sh installs librsvg2-bin)");
+        eprintln!("note: {tool} not found, {checks} skipped (apt-get install {package})");
     }
-    ok
+    found
+}
+
+/// An empty folder `group/name` under the tests' temporary folder.
+pub fn fresh_dir(group: &str, name: &str) -> std::path::PathBuf {
+    let d = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+        .join(group)
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
 }
 
 /// Render `svg` to `png` on white; the PNG must be more than 8 kB (a chart,

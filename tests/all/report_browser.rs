@@ -12,6 +12,8 @@
 //! (`CI=true`, as `.ci/run` sets it, which installs `chromium`) it fails.
 
 use std::path::{Path, PathBuf};
+
+use crate::png_support::{fresh_dir, tool_present};
 use std::process::Command;
 
 const CHROMIUM: &str = "/usr/bin/chromium";
@@ -28,25 +30,16 @@ var p=document.createElement('pre');p.id='frfup-probe';p.textContent=JSON.string
 </script>"#;
 
 fn chromium_available() -> bool {
-    let ok = Path::new(CHROMIUM).exists();
-    if !ok {
-        let under_ci = std::env::var("CI").is_ok_and(|v| v == "true");
-        assert!(
-            !under_ci,
-            "{CHROMIUM} not found under CI=true: install Debian's chromium (.ci/run does)"
-        );
-        eprintln!("note: {CHROMIUM} not found, browser checks skipped (apt-get install chromium)");
-    }
-    ok
+    tool_present(
+        Path::new(CHROMIUM).exists(),
+        CHROMIUM,
+        "chromium",
+        "browser checks",
+    )
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("report_browser")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir("report_browser", name)
 }
 
 fn frfup(args: &[&str]) {

@@ -16,19 +16,14 @@ use frfup::updating::model_states::model_states;
 use frfup::updating::{update, UpdateOptions, UpdateResult};
 
 use crate::campaign_support::{band, z_campaign};
-use crate::png_support::{render_and_check, rsvg_available};
+use crate::png_support::{fresh_dir, render_and_check, rsvg_available};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
 fn out_dir(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
-        .join("report_render")
-        .join(name);
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    fresh_dir("report_render", name)
 }
 
 fn cantilever_deck() -> Deck {

@@ -117,14 +117,7 @@ impl IterationState {
         )
         .map_err(UpdateError::Sensitivity)?;
         let sfdac = SfdacSummary::new(&eqs.fe_frf, &problem.h_test);
-        let fe_shapes: Vec<Vec<f64>> = (0..modes.len())
-            .map(|r| {
-                meas.equations
-                    .iter()
-                    .map(|&i| modes.shapes[(i, r)])
-                    .collect()
-            })
-            .collect();
+        let fe_shapes = modes.at(&meas.equations);
         let pairs = pair_modes(
             &problem.test_shapes,
             &problem.test_hz,
