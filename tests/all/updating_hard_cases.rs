@@ -143,3 +143,38 @@ fn divergence_stops_keeps_the_best_iteration_and_says_so() {
         .iter()
         .any(|w| w.to_string().contains("iteration")));
 }
+
+/// The GARTEUR deck without its bungees cannot explain its test (about 23×
+/// the noise level): every parameter the data do not identify keeps the
+/// deck's value in the result and in `updated.deck` (fus_J once came out
+/// "not identified" at +9.04), and the identified ones stay within bounds.
+#[test]
+fn parameters_not_identified_keep_the_decks_value() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
+    let deck = parse(&std::fs::read_to_string(root.join("garteur.deck")).unwrap()).unwrap();
+    let test = frfup::testdata::load(&root.join("campaign.uff")).unwrap();
+    let r = update(&deck, &test, &UpdateOptions::default()).unwrap();
+    let est = r.estimate.as_ref().expect("the robust pipeline's estimate");
+    let values = r.parameter_values();
+    let unidentified: Vec<&str> = est
+        .parameters
+        .iter()
+        .filter(|p| !p.identified && !p.at_bound)
+        .map(|p| p.name.as_str())
+        .collect();
+    assert!(unidentified.contains(&"fus_J"), "{unidentified:?}");
+    for p in est
+        .parameters
+        .iter()
+        .filter(|p| !p.identified && !p.at_bound)
+    {
+        assert_eq!(p.value, 0.0, "{}", p.name);
+        assert_eq!(
+            values.get(&p.name).copied().unwrap_or(0.0),
+            0.0,
+            "{}",
+            p.name
+        );
+    }
+    assert!(est.misfit > 4.0, "misfit {}", est.misfit);
+}
