@@ -113,6 +113,9 @@ struct ModesArgs {
     /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,
+    /// Print the table as JSON on stdout (keys as the CSV's columns).
+    #[arg(long)]
+    json: bool,
 }
 
 // `frfup simulate`.
@@ -165,6 +168,9 @@ struct UpdateArgs {
     /// Output folder: report.json, CSV tables, updated.deck, report.md.
     #[arg(long)]
     out: PathBuf,
+    /// Print a JSON summary on stdout (the main keys of report.json) instead of text.
+    #[arg(long)]
+    json: bool,
     #[command(flatten)]
     settings: UpdateSettings,
     #[command(flatten)]
@@ -185,6 +191,13 @@ struct DiagnoseArgs {
     /// At most this many extensions.
     #[arg(long, default_value_t = 4)]
     max_findings: usize,
+    /// Exit 1 if the diagnosed model's FRF error is above X times the noise
+    /// level (1 = the model explains the test to the noise), for CI.
+    #[arg(long, value_name = "X", value_parser = finite)]
+    fail_above_error: Option<f64>,
+    /// Print a JSON summary on stdout (diagnosis.json with the verdict) instead of text.
+    #[arg(long)]
+    json: bool,
     /// Options of the first step, the update of the deck's own parameters
     /// (`--method paper` unless given).
     #[command(flatten)]
@@ -204,6 +217,9 @@ struct BatchArgs {
     /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
     #[arg(long, value_name = "I/N")]
     shard: Option<String>,
+    /// Print summary.json on stdout instead of the totals line.
+    #[arg(long)]
+    json: bool,
     #[command(flatten)]
     thresholds: Thresholds,
 }
@@ -322,13 +338,17 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
 
 fn modes(a: ModesArgs) -> Result<(), CommandError> {
     let values = commands::modes::parse_settings(&a.set)?;
-    let table = commands::modes::run(&commands::modes::ModesOptions {
-        deck: a.deck,
+    let rows = commands::modes::run(&commands::modes::ModesOptions {
+        deck: a.deck.clone(),
         count: a.count,
         csv: a.csv,
         values,
     })?;
-    print!("{table}");
+    if a.json {
+        print_json(&commands::modes::json(&a.deck, &rows));
+    } else {
+        print!("{}", commands::modes::table(&rows));
+    }
     Ok(())
 }
 
@@ -386,8 +406,16 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
     reporter.finish();
     let outcome = result?;
     print_timings(g.verbose, &outcome);
-    print_update_summary(&outcome);
-    println!("wrote {}", a.out.display());
+    if a.json {
+        let mut v = frfup::report::output::summary_json(&outcome.result);
+        v["out"] = a.out.display().to_string().into();
+        v["threshold_failures"] = update::threshold_failures(&outcome, a.thresholds).into();
+        print_json(&v);
+        print_warnings(&outcome);
+    } else {
+        print_update_summary(&outcome);
+        println!("wrote {}", a.out.display());
+    }
     if !outcome.result.converged {
         return Err(CommandError::threshold(format!(
             "not converged: {}",
@@ -395,6 +423,11 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         )));
     }
     check_thresholds(&outcome, a.thresholds)
+}
+
+/// A `--json` summary on stdout, pretty-printed, one value.
+fn print_json(v: &serde_json::Value) {
+    println!("{}", serde_json::to_string_pretty(v).unwrap_or_default());
 }
 
 fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
@@ -416,13 +449,24 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
             eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
         }
     }
-    print!("{}", commands::diagnose::summary(&d));
-    println!("wrote {}", a.out.display());
-    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
-    if verdict.is_conclusive() {
-        Ok(())
+    if a.json {
+        print_json(&commands::diagnose::json(&d, &a.out));
     } else {
-        Err(CommandError::threshold(verdict.status()))
+        print!("{}", commands::diagnose::summary(&d));
+        println!("wrote {}", a.out.display());
+    }
+    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
+    if !verdict.is_conclusive() {
+        return Err(CommandError::threshold(verdict.status()));
+    }
+    match a.fail_above_error {
+        Some(x) if d.diagnosed.frf_error.is_nan() || d.diagnosed.frf_error > x => {
+            Err(CommandError::threshold(format!(
+                "FRF error {:.2} x the noise level > {x}",
+                d.diagnosed.frf_error
+            )))
+        }
+        _ => Ok(()),
     }
 }
 
@@ -457,11 +501,15 @@ fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
         }
     }
     let summary = result?;
-    println!(
-        "{}; summary in {}",
-        summary.totals(),
-        a.out.join("summary.md").display()
-    );
+    if a.json {
+        print_json(&frfup::batch::summary_json(&summary));
+    } else {
+        println!(
+            "{}; summary in {}",
+            summary.totals(),
+            a.out.join("summary.md").display()
+        );
+    }
     match summary.exit_code() {
         0 => Ok(()),
         1 => {
@@ -533,7 +581,11 @@ fn print_update_summary(outcome: &update::UpdateOutcome) {
             }
         }
     }
-    for w in &r.warnings {
+    print_warnings(outcome);
+}
+
+fn print_warnings(outcome: &update::UpdateOutcome) {
+    for w in &outcome.result.warnings {
         eprintln!("warning: {w}");
     }
 }

@@ -347,7 +347,22 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             }
         }
     }
-    let json = json!({
+    let json = summary_json(s);
+    let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
+    for (name, body) in [
+        ("summary.csv", csv),
+        ("summary.md", md),
+        ("summary.json", json),
+    ] {
+        let p = dir.join(name);
+        write_atomic(&p, body.as_bytes()).map_err(|e| CommandError::output(&p, e))?;
+    }
+    Ok(())
+}
+
+/// `summary.json` as a value (also `frfup batch --json`'s stdout).
+pub fn summary_json(s: &BatchSummary) -> serde_json::Value {
+    json!({
         "exit_code": s.exit_code(),
         "totals": {
             "cases": s.cases.len(),
@@ -373,15 +388,5 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             "wall_time_s": c.wall_time_s,
             "input_notes": c.input_notes,
         })).collect::<Vec<_>>(),
-    });
-    let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
-    for (name, body) in [
-        ("summary.csv", csv),
-        ("summary.md", md),
-        ("summary.json", json),
-    ] {
-        let p = dir.join(name);
-        write_atomic(&p, body.as_bytes()).map_err(|e| CommandError::output(&p, e))?;
-    }
-    Ok(())
+    })
 }

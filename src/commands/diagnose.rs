@@ -53,6 +53,17 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     Ok(d)
 }
 
+/// The summary of `frfup diagnose --json`: `diagnosis.json`'s content (the
+/// same value) with the verdict (`status`, `verdict`) and the output folder.
+pub fn json(d: &Diagnosis, out: &std::path::Path) -> serde_json::Value {
+    let verdict = diagnosis::verdict::Verdict::of(d);
+    let mut v = crate::report::diagnosis::output::diagnosis_json(d);
+    v["status"] = verdict.status().into();
+    v["verdict"] = verdict.sentence().into();
+    v["out"] = out.display().to_string().into();
+    v
+}
+
 /// One line per finding, for the terminal.
 pub fn summary(d: &Diagnosis) -> String {
     let verdict = diagnosis::verdict::Verdict::of(d);

@@ -208,6 +208,43 @@ pub fn report_json(result: &UpdateResult) -> Value {
     })
 }
 
+/// The keys of `report.json` that `--json` prints on stdout (all but the
+/// per-iteration history, the resonance list and the echo of the inputs).
+pub const SUMMARY_KEYS: [&str; 11] = [
+    "converged",
+    "stop",
+    "method",
+    "layout",
+    "parameter_estimates",
+    "estimate",
+    "final_iteration",
+    "parameter_order",
+    "parameters",
+    "frequencies",
+    "warnings",
+];
+
+/// The summary of `frfup update --json`: [`SUMMARY_KEYS`] of
+/// [`report_json`], the same values `report.json` holds, plus the initial
+/// and final SFDAC (`sfdac_mean`, `sfdac_min`: first and last iteration).
+pub fn summary_json(result: &UpdateResult) -> Value {
+    let full = report_json(result);
+    let mut m: Map<String, Value> = SUMMARY_KEYS
+        .iter()
+        .filter_map(|k| full.get(*k).map(|v| (k.to_string(), v.clone())))
+        .collect();
+    let (first, last) = (&result.iterations[0], result.final_record());
+    m.insert(
+        "sfdac_mean".into(),
+        json!({"initial": first.sfdac.mean, "updated": last.sfdac.mean}),
+    );
+    m.insert(
+        "sfdac_min".into(),
+        json!({"initial": first.sfdac.min, "updated": last.sfdac.min}),
+    );
+    Value::Object(m)
+}
+
 /// `parameters.csv`: iteration, p̄ per parameter, SFDAC mean and min.
 pub fn parameters_csv(result: &UpdateResult) -> String {
     let header = std::iter::once("iteration".to_string())

@@ -5,12 +5,14 @@
 
 mod campaign_doc;
 mod campaign_support;
+mod cli_support;
 mod model_common;
 mod png_support;
 mod solvers_support;
 
 mod cli_batch;
 mod cli_demo;
+mod cli_json;
 mod cli_model;
 mod cli_uff;
 mod diagnose_cases;
