@@ -77,7 +77,9 @@ struct DemoArgs {
 // `frfup info`.
 #[derive(clap::Args)]
 struct InfoArgs {
-    file: PathBuf,
+    /// UFF files (dataset 58 FRFs and any other dataset), listed in order.
+    #[arg(required = true, num_args = 1..)]
+    files: Vec<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -86,13 +88,16 @@ struct InfoArgs {
 // `frfup convert`.
 #[derive(clap::Args)]
 struct ConvertArgs {
-    input: PathBuf,
-    /// Output file: .csv, .uff or .unv.
+    /// UFF files to read (dataset 58 records), in order; their records go into one output.
+    #[arg(required = true, num_args = 1..)]
+    inputs: Vec<PathBuf>,
+    /// Output file: .csv, .uff or .unv, or - for CSV on stdout. With several
+    /// inputs each CSV column starts with its file's name (FILE:resp/ref).
     output: PathBuf,
     /// Convert FRFs to this kind.
     #[arg(long, value_enum)]
     to: Option<ToKind>,
-    /// Records to keep: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
+    /// Records to keep in each input: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
     #[arg(long)]
     channels: Option<String>,
     /// Write 58b binary records (UFF output only).
@@ -280,7 +285,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
     match cli.command {
         Command::Demo(a) => demo(a, &g),
         Command::Info(a) => {
-            print!("{}", commands::info::run(&a.file, a.json, g.progress)?);
+            print!("{}", commands::info::run(&a.files, a.json, g.progress)?);
             Ok(())
         }
         Command::Convert(a) => convert(a, &g),
@@ -314,7 +319,7 @@ fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
 
 fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
     let summary = convert::run(&convert::ConvertOptions {
-        input: a.input,
+        inputs: a.inputs,
         output: a.output.clone(),
         to: a.to.map(ToKind::target),
         channels: a.channels,
@@ -330,7 +335,11 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
             "wrote {} record(s) of {} line(s) to {}",
             summary.records,
             summary.lines,
-            a.output.display()
+            if convert::is_stdout(&a.output) {
+                "stdout".to_string()
+            } else {
+                a.output.display().to_string()
+            }
         );
     }
     Ok(())

@@ -368,8 +368,10 @@ fn info_json_key_set_is_exact() {
         "reference",
         "response_entity",
         "reference_entity",
+        // which file the record comes from (info takes several)
+        "file",
     ]);
-    let other = sorted(&["index", "dataset", "line", "summary"]);
+    let other = sorted(&["index", "dataset", "line", "summary", "file"]);
     for (i, r) in records.iter().enumerate() {
         assert_eq!(r["index"], i as i64 + 1);
         let expected = if r["dataset"] == 58 {
