@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use frfup::commands::progress::{Progress, StepReporter};
+use frfup::commands::progress::{Progress, StageReporter, StepReporter};
 use frfup::commands::{self, convert};
 use frfup::tasks::update::Thresholds;
 use frfup::tasks::{update, CommandError};
@@ -33,6 +33,10 @@ struct Cli {
     /// Any warning (data skipped or doubtful in an input) is an error: exit 2.
     #[arg(long, global = true)]
     strict: bool,
+    /// Show progress even off a terminal or in CI (one line per step on
+    /// stderr); without it, bars appear on a terminal only.
+    #[arg(long, global = true, conflicts_with = "quiet")]
+    progress: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -280,7 +284,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
         quiet: cli.quiet,
         verbose: cli.verbose,
         strict: cli.strict,
-        progress: Progress::detect(cli.quiet),
+        progress: Progress::with_flags(cli.quiet, cli.progress),
     };
     match cli.command {
         Command::Demo(a) => demo(a, &g),
@@ -300,7 +304,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
 fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
     frfup::fsio::check_out_folder(&a.out).map_err(CommandError::input)?;
     let start = std::time::Instant::now();
-    let reporter = StepReporter::new(g.quiet, 21, "iteration");
+    let reporter = StepReporter::new(g.progress, 21, "iteration");
     let result = commands::demo::run(&a.out, &mut |rec| {
         reporter.step(&iteration_line(rec));
     });
@@ -408,7 +412,7 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         options: a.settings.resolve(UpdateMethod::Robust),
         strict: g.strict,
     };
-    let reporter = StepReporter::new(g.quiet, cmd.options.max_iter as u64 + 1, "iteration");
+    let reporter = StepReporter::new(g.progress, cmd.options.max_iter as u64 + 1, "iteration");
     let result = update::run(&cmd, &mut |rec| {
         reporter.step(&iteration_line(rec));
     });
@@ -452,7 +456,10 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         },
         strict: g.strict,
     };
-    let d = commands::diagnose::run(&cmd)?;
+    let reporter = StageReporter::new(g.progress);
+    let d = commands::diagnose::run(&cmd, &|s| reporter.stage(s));
+    reporter.finish();
+    let d = d?;
     if g.verbose {
         for (stage, secs, units) in &d.timings {
             eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
@@ -499,7 +506,7 @@ fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
         &|c, n, total| {
             let line = format!("[{n}/{total}] {}", case_line(c));
             if let Ok(mut r) = reporter.lock() {
-                r.get_or_insert_with(|| StepReporter::new(g.quiet, total as u64, "case"))
+                r.get_or_insert_with(|| StepReporter::new(g.progress, total as u64, "case"))
                     .step(&line);
             }
         },

@@ -15,6 +15,7 @@ mod cli_demo;
 mod cli_files;
 mod cli_json;
 mod cli_model;
+mod cli_progress;
 mod cli_uff;
 mod diagnose_cases;
 mod hostile_inputs;
