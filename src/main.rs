@@ -73,7 +73,12 @@ struct Global {
 // `frfup demo`.
 #[derive(clap::Args)]
 struct DemoArgs {
-    /// Output folder.
+    /// Output folder: input/garteur.deck and input/campaign.uff (the case),
+    /// then the files of `update`: report.html, report.md, report.json,
+    /// estimates.csv, parameters.csv, iterations.csv, frequencies.csv,
+    /// resonances.csv, updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv,
+    /// updated.deck, convergence.svg, frequencies.svg, sfdac.svg, mac.svg,
+    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long, default_value = "frfup-demo")]
     out: PathBuf,
 }
@@ -112,11 +117,12 @@ struct ConvertArgs {
 // `frfup modes`.
 #[derive(clap::Args)]
 struct ModesArgs {
+    /// The model: a deck file (docs/deck.md).
     deck: PathBuf,
     /// How many of the lowest modes.
     #[arg(long, default_value_t = 20, value_parser = at_least_one)]
     count: usize,
-    /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
+    /// Also write the table to this CSV file (mode,frequency_hz,generalised_mass_kg).
     #[arg(long)]
     csv: Option<PathBuf>,
     /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
@@ -130,6 +136,7 @@ struct ModesArgs {
 // `frfup simulate`.
 #[derive(clap::Args)]
 struct SimulateArgs {
+    /// The model whose FRFs are computed: a deck file (docs/deck.md).
     deck: PathBuf,
     /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
     /// Required unless --response is given.
@@ -143,12 +150,13 @@ struct SimulateArgs {
     /// Frequency lines F0:F1:N (Hz).
     #[arg(long, allow_hyphen_values = true)]
     band: String,
-    /// Output UFF file.
+    /// The UFF file written (dataset 58 records, one per sensor).
     #[arg(long)]
     out: PathBuf,
-    /// FRF kind written.
+    /// Which FRF is written: displacement (receptance), velocity (mobility)
+    /// or acceleration (accelerance) per unit force.
     #[arg(long, value_enum, default_value = "accelerance")]
-    output: OutputKind,
+    kind: KindArg,
     /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
     #[arg(long, default_value = "all", allow_hyphen_values = true)]
     sensors: String,
@@ -172,9 +180,16 @@ struct SimulateArgs {
 // `frfup update`.
 #[derive(clap::Args)]
 struct UpdateArgs {
+    /// The model: a deck file whose `param` lines are updated (docs/deck.md).
     deck: PathBuf,
+    /// The measured FRFs: a UFF file of dataset 58/58b records.
     test: PathBuf,
-    /// Output folder: report.json, CSV tables, updated.deck, report.md.
+    /// Output folder (created; replaced as a whole): report.html, report.md,
+    /// report.json, estimates.csv (robust only), parameters.csv,
+    /// iterations.csv, frequencies.csv, resonances.csv,
+    /// updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv, updated.deck,
+    /// convergence.svg, frequencies.svg, sfdac.svg, mac.svg, frf-overlay.svg
+    /// and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
     /// Print a JSON summary on stdout (the main keys of report.json) instead of text.
@@ -189,9 +204,13 @@ struct UpdateArgs {
 // `frfup diagnose`.
 #[derive(clap::Args)]
 struct DiagnoseArgs {
+    /// The model: a deck file (docs/deck.md).
     deck: PathBuf,
+    /// The measured FRFs: a UFF file of dataset 58/58b records.
     test: PathBuf,
-    /// Output folder.
+    /// Output folder (created; replaced as a whole): diagnosis.json,
+    /// diagnosed.deck, report.md, report.html, localisation.svg,
+    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
     /// Take the deck's parameters as they are (no update first).
@@ -216,8 +235,11 @@ struct DiagnoseArgs {
 // `frfup batch`.
 #[derive(clap::Args)]
 struct BatchArgs {
+    /// The campaign: a TOML file of [[case]] tables (model, test and update
+    /// options per case; docs/campaign.md).
     campaign: PathBuf,
-    /// Output folder: one folder per case, summary.md/.csv/.json.
+    /// Output folder: summary.md, summary.csv, summary.json and one folder
+    /// per case holding the files of `update` (see `frfup update --help`).
     #[arg(long)]
     out: PathBuf,
     /// Cases run at once.
@@ -243,18 +265,18 @@ fn at_least_one(s: &str) -> Result<usize, String> {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum OutputKind {
+enum KindArg {
     Receptance,
     Mobility,
     Accelerance,
 }
 
-impl OutputKind {
+impl KindArg {
     fn kind(self) -> FrfKind {
         match self {
-            OutputKind::Receptance => FrfKind::Receptance,
-            OutputKind::Mobility => FrfKind::Mobility,
-            OutputKind::Accelerance => FrfKind::Accelerance,
+            KindArg::Receptance => FrfKind::Receptance,
+            KindArg::Mobility => FrfKind::Mobility,
+            KindArg::Accelerance => FrfKind::Accelerance,
         }
     }
 }
@@ -385,7 +407,7 @@ fn simulate(a: SimulateArgs, g: &Global) -> Result<(), CommandError> {
         band: sim::parse_band(&a.band)?,
         lines_hz: None,
         response,
-        output: a.output.kind(),
+        output: a.kind.kind(),
         sensors: sim::parse_sensors(&a.sensors)?,
         noise: a.noise,
         seed: a.seed,

@@ -13,6 +13,7 @@ mod solvers_support;
 mod cli_batch;
 mod cli_demo;
 mod cli_files;
+mod cli_help;
 mod cli_json;
 mod cli_model;
 mod cli_progress;
