@@ -178,8 +178,9 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let lines = records.first().map(|f| f.len()).unwrap_or(0);
     let count = records.len();
     let sources = (opts.inputs.len() > 1).then_some(sources.as_slice());
+    let units: Vec<Option<String>> = records.iter().map(|f| value_units(f, opts.to)).collect();
     let csv = || {
-        csv_text_from(&records, sources)
+        csv_text_from(&records, sources, Some(&units))
             .map_err(|e| CommandError::input(format!("{}: {e}", opts.inputs[0].display())))
     };
     let written = match format {
@@ -359,12 +360,49 @@ fn converted_records(
 /// CSV: `frequency_hz` (or the abscissa's name) then, per record, `<resp>/<ref> re`
 /// and `im`, or one column for real data. All records must share the abscissa.
 pub fn csv_text(records: &[Function58]) -> Result<String, String> {
-    csv_text_from(records, None)
+    csv_text_from(records, None, None)
+}
+
+/// The unit of a record's values for a CSV header: `kind`'s SI unit when
+/// convert made them SI (`--to`), else the file's axis labels (info's
+/// `units`), `None` when the file gives none.
+pub fn value_units(f: &Function58, to: Option<Target>) -> Option<String> {
+    match to {
+        Some(Target::Kind(kind)) => Some(kind.units().to_string()),
+        Some(Target::DisplacementReal) => Some(FrfKind::Receptance.units().to_string()),
+        None => Some(super::info::units(f)).filter(|u| u != "-"),
+    }
+}
+
+/// The name of a record's column(s): `resp/ref` (a channel without a
+/// reference, such as a time record: `resp` alone), `FILE:` first when
+/// `source` is given.
+fn column_label(f: &Function58, source: Option<&str>) -> String {
+    let label = |e: &str, n: i64, d: i32| crate::testdata::entity_dof_label(e, n, d);
+    let response = label(&f.response_entity, f.response_node, f.response_direction);
+    let entity = f.reference_entity.trim();
+    let no_reference =
+        f.reference_node == 0 && (entity.is_empty() || entity.eq_ignore_ascii_case("none"));
+    let channel = if no_reference {
+        response
+    } else {
+        let reference = label(&f.reference_entity, f.reference_node, f.reference_direction);
+        format!("{response}/{reference}")
+    };
+    match source {
+        Some(file) => format!("{file}:{channel}"),
+        None => channel,
+    }
 }
 
 /// [`csv_text`], each column named `FILE:<resp>/<ref>` when `sources` (one
-/// file name per record) is given.
-pub fn csv_text_from(records: &[Function58], sources: Option<&[String]>) -> Result<String, String> {
+/// file name per record) is given and with its unit (`re[m/s^2/N]`) when
+/// `units` gives one; a name met twice gets ` #2`, ` #3`, ...
+pub fn csv_text_from(
+    records: &[Function58],
+    sources: Option<&[String]>,
+    units: Option<&[Option<String>]>,
+) -> Result<String, String> {
     let first = records.first().ok_or("no record")?;
     let n = first.len();
     for (i, f) in records.iter().enumerate() {
@@ -388,26 +426,24 @@ pub fn csv_text_from(records: &[Function58], sources: Option<&[String]>) -> Resu
     };
     let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
     let mut header = vec![abscissa.to_string()];
+    let mut seen: Vec<String> = Vec::new();
     for (i, f) in records.iter().enumerate() {
-        let file = sources.map(|s| format!("{}:", s[i])).unwrap_or_default();
-        let label = format!(
-            "{file}{}/{}",
-            crate::testdata::entity_dof_label(
-                &f.response_entity,
-                f.response_node,
-                f.response_direction
-            ),
-            crate::testdata::entity_dof_label(
-                &f.reference_entity,
-                f.reference_node,
-                f.reference_direction
-            )
-        );
+        let base = column_label(f, sources.map(|s| s[i].as_str()));
+        let count = seen.iter().filter(|s| **s == base).count();
+        seen.push(base.clone());
+        let name = match count {
+            0 => base,
+            c => format!("{base} #{}", c + 1),
+        };
+        let unit = units
+            .and_then(|u| u[i].as_deref())
+            .map(|u| format!("[{u}]"))
+            .unwrap_or_default();
         if f.ordinate.is_complex() {
-            header.push(format!("{label} re"));
-            header.push(format!("{label} im"));
+            header.push(format!("{name} re{unit}"));
+            header.push(format!("{name} im{unit}"));
         } else {
-            header.push(label);
+            header.push(format!("{name}{unit}"));
         }
     }
     w.write_record(&header).map_err(|e| e.to_string())?;

@@ -22,7 +22,9 @@ pub fn ordinate_type_name(code: i32) -> &'static str {
     }
 }
 
-fn units(f: &Function58) -> String {
+/// The unit of a record's values from its axis labels (`m/s^2 / N`), `-`
+/// when the file names none.
+pub fn units(f: &Function58) -> String {
     let num = f.numerator_axis.units_label.trim();
     let den = f.denominator_axis.units_label.trim();
     let num = if num.is_empty() || num.eq_ignore_ascii_case("none") {

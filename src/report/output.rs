@@ -15,7 +15,7 @@ use frfup_parsers::deck::{self, Deck};
 use serde_json::{json, Map, Value};
 
 use super::tables::csv_text;
-use crate::fsio::{csv_number, write_atomic};
+use crate::fsio::{csv_number, csv_number_sig, write_atomic};
 use crate::model;
 use crate::updating::{IterationRecord, UpdateResult};
 
@@ -252,7 +252,7 @@ pub fn parameters_csv(result: &UpdateResult) -> String {
         .chain(["sfdac_mean".into(), "sfdac_min".into()]);
     let rows = result.iterations.iter().map(|r| {
         std::iter::once(r.index.to_string())
-            .chain(r.parameters.iter().map(|p| format!("{p:.6e}")))
+            .chain(r.parameters.iter().map(|p| csv_number_sig(*p, 7)))
             .chain([
                 format!("{:.6}", r.sfdac.mean),
                 format!("{:.6}", r.sfdac.min),

@@ -22,15 +22,10 @@ fn num(v: f64, fmt: fn(f64) -> String) -> String {
     }
 }
 
-/// Seven significant digits in `e` notation (`1.234568e-5`); zero is `0`.
+/// Seven significant digits by the CSV rule of [`crate::fsio::csv_number`]:
+/// plain decimal for 1e-4 ≤ |x| < 1e6, else `1.234568e-5`; zero is `0`.
 fn e6(v: f64) -> String {
-    num(v, |x| {
-        if x == 0.0 {
-            "0".into()
-        } else {
-            format!("{x:.6e}")
-        }
-    })
+    crate::fsio::csv_number_sig(v, 7)
 }
 
 fn f6(v: f64) -> String {
@@ -210,7 +205,8 @@ mod tests {
         assert_eq!(e6(f64::NAN), "");
         assert_eq!(e6(-0.0), "0");
         assert_eq!(e6(0.0), "0");
-        assert_eq!(e6(-1.5e-5), "-1.500000e-5");
+        assert_eq!(e6(-1.5e-5), "-1.5e-5");
+        assert_eq!(e6(0.01979010), "0.0197901");
         assert_eq!(f6(-0.0), "0.000000");
         assert_eq!(f6(1.5), "1.500000");
     }

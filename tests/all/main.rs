@@ -11,6 +11,7 @@ mod png_support;
 mod solvers_support;
 
 mod cli_batch;
+mod cli_csv;
 mod cli_demo;
 mod cli_files;
 mod cli_help;
