@@ -238,7 +238,7 @@ struct BatchArgs {
     /// The campaign: a TOML file of [[case]] tables (model, test and update
     /// options per case; docs/campaign.md).
     campaign: PathBuf,
-    /// Output folder: summary.md, summary.csv, summary.json and one folder
+    /// Output folder: summary.html, summary.md, summary.csv, summary.json and one folder
     /// per case holding the files of `update` (see `frfup update --help`).
     #[arg(long)]
     out: PathBuf,

@@ -160,23 +160,47 @@ fn convergence_chart(result: &UpdateResult, title: &str) -> ConvergenceChart {
             .get(result.final_iteration)
             .map(|r| r.index),
         stages: stage_marks(result),
+        not_identified: result
+            .parameter_names
+            .iter()
+            .map(|n| {
+                result
+                    .estimate
+                    .as_ref()
+                    .is_some_and(|e| e.parameters.iter().any(|p| &p.name == n && !p.identified))
+            })
+            .collect(),
     }
 }
 
-/// The full-band estimate, when the run made one and kept it, is the last
-/// record: marked as a stage of its own.
+/// Where the frequencies-first stage hands over to the FRF equations, and
+/// the full-band estimate, when the run made one and kept it (the last
+/// record): each marked as a stage of its own.
 fn stage_marks(result: &UpdateResult) -> Vec<StageMark> {
+    use crate::updating::IterationStage;
+    let mut marks = Vec::new();
+    let records = &result.iterations;
+    let handover = records
+        .windows(2)
+        .find(|w| w[0].stage == IterationStage::Frequencies && w[1].stage == IterationStage::Frf);
+    if let Some(w) = handover {
+        marks.push(StageMark {
+            at: w[1].index,
+            label: "FRF stage after frequencies first".into(),
+        });
+    }
     let rejected = result
         .warnings
         .iter()
         .any(|w| matches!(w, crate::updating::UpdateWarning::EstimateRejected { .. }));
-    match (&result.estimate, result.iterations.last()) {
-        (Some(_), Some(last)) if !rejected && last.index > 0 => vec![StageMark {
+    match (&result.estimate, records.last()) {
+        (Some(_), Some(last)) if !rejected && last.index > 0 => marks.push(StageMark {
             at: last.index,
             label: "full-band estimate".into(),
-        }],
-        _ => Vec::new(),
+        }),
+        _ => {}
     }
+    marks
 }
 
 fn sfdac_chart(result: &UpdateResult) -> SfdacChart {

@@ -335,6 +335,22 @@ pub struct IterationRecord {
     pub basis_modes: Vec<usize>,
     /// Test resonance → FE mode pairs (MAC on the measured DOFs).
     pub pairs: Vec<Option<ModePair>>,
+    /// Which equations produced the step p^n.
+    pub stage: IterationStage,
+}
+
+/// Which equations produced an iteration's step: the convergence chart
+/// marks where they change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IterationStage {
+    /// Iteration 0, the initial model: no step.
+    Initial,
+    /// The frequencies-first stage: natural-frequency equations alone (Eq. 16–22).
+    Frequencies,
+    /// FRF equations at the updating frequencies (Eq. 11–12, solved by Eq. 35–41).
+    Frf,
+    /// The full-band estimate (the robust pipeline's last record).
+    Estimate,
 }
 
 /// The outcome of an update.

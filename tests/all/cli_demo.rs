@@ -113,9 +113,42 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
         }
     }
     assert_eq!(unidentified, ["rroot_J", "lroot_J"]);
+    reports_say_not_identified(&out_dir, &unidentified);
     assert_eq!(report["converged"], true);
     assert_eq!(report["method"], "robust");
     // the updated deck is a valid deck
     let deck = std::fs::read_to_string(out_dir.join("updated.deck")).unwrap();
     frfup_parsers::deck::parse(&deck).expect("updated.deck parses");
+}
+
+/// The reports say "not identified" in words, not as a value 0.0000: the
+/// estimate table of report.html and report.md, the convergence chart's
+/// panel titles; the chart also marks where the frequencies-first stage
+/// hands over to the FRF equations.
+fn reports_say_not_identified(out_dir: &std::path::Path, unidentified: &[String]) {
+    let html = std::fs::read_to_string(out_dir.join("report.html")).unwrap();
+    let md = std::fs::read_to_string(out_dir.join("report.md")).unwrap();
+    let svg = std::fs::read_to_string(out_dir.join("convergence.svg")).unwrap();
+    for name in unidentified {
+        assert!(
+            html.contains(&format!(
+                "<td class=\"l\">{name}</td><td>not identified</td>"
+            )),
+            "{name} in report.html"
+        );
+        assert!(
+            md.contains(&format!("| {name} | not identified |")),
+            "{name} in report.md"
+        );
+        assert!(
+            svg.contains(&format!("{name}: not identified")),
+            "{name} in convergence.svg"
+        );
+    }
+    // The convergence chart marks where the frequencies-first stage hands
+    // over to the FRF equations (the first FRF step's record).
+    assert!(
+        svg.contains("FRF stage after frequencies first from iteration"),
+        "no handover mark in convergence.svg"
+    );
 }
