@@ -5,8 +5,9 @@
 //! * `iterations.csv`: rank, step scale and the step p^n of every iteration;
 //! * `resonances.csv`: the measured resonances (peak picking);
 //! * `updating-frequencies.csv`: the updating frequencies used and skipped;
-//! * `mac.csv`: the MAC matrices of the MAC chart (long format): the test's
-//!   operating deflection shapes against the FE modes, hence `mac_ods`;
+//! * `mac.csv`: the MAC matrices of the MAC chart (long format): the test
+//!   shapes that paired the resonances (`test_shapes`: `fitted` or `ods`)
+//!   against the FE modes;
 //! * `frf.csv`: measured, initial and updated FRFs (long format).
 
 use super::data::ReportData;
@@ -146,8 +147,12 @@ pub fn updating_frequencies_csv(result: &UpdateResult) -> String {
 /// `mac.csv`.
 pub fn mac_csv(data: &ReportData) -> String {
     let mut rows = vec![header(
-        "model,test_resonance,test_label,fe_mode_hz,mac_ods,paired",
+        "model,test_resonance,test_label,fe_mode_hz,mac,paired,test_shapes",
     )];
+    let shapes = match data.mac_source {
+        crate::updating::ShapeSource::Fitted => "fitted",
+        crate::updating::ShapeSource::OperatingDeflection => "ods",
+    };
     for p in &data.mac.panels {
         for (t, row) in p.values.iter().enumerate() {
             for (c, v) in row.iter().enumerate() {
@@ -158,6 +163,7 @@ pub fn mac_csv(data: &ReportData) -> String {
                     p.column_labels.get(c).cloned().unwrap_or_default(),
                     f6(*v),
                     p.pairs.contains(&(t, c)).to_string(),
+                    shapes.to_string(),
                 ]);
             }
         }

@@ -28,7 +28,9 @@ use std::fmt;
 use crate::model::{ModelError, ParameterValues};
 use crate::solvers::eigen::EigenError;
 
-pub use correlation::{fdac_matrix, mac, sfdac, ModePair, SfdacSummary};
+pub use correlation::{
+    fdac_matrix, mac, mac_matrix, sfdac, MacMatrix, ModePair, SfdacSummary, ShapeSource, TestShapes,
+};
 pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, UpdatingFrequency};
 pub use iterate::{update, update_model, update_with_progress};
 pub use options::{
@@ -382,6 +384,9 @@ pub struct UpdateResult {
     pub options: UpdateOptions,
     /// What the campaign measured (a column, a row used by reciprocity, …).
     pub layout: crate::testdata::layout::Layout,
+    /// The test shapes that paired resonances with FE modes (the MAC of
+    /// `pairs`), and where they come from.
+    pub pairing_shapes: TestShapes,
     /// The full-band estimate ([`UpdateMethod::Robust`]), whose parameters
     /// are those of the final record.
     pub estimate: Option<fullband::estimate::FullBandEstimate>,

@@ -16,6 +16,7 @@ mod cli_demo;
 mod cli_files;
 mod cli_help;
 mod cli_json;
+mod cli_mac;
 mod cli_model;
 mod cli_progress;
 mod cli_uff;

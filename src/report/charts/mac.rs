@@ -1,5 +1,5 @@
-//! `mac.svg`: MAC matrices (test resonances' operating deflection shapes vs FE
-//! modes) as heat maps, one panel per model, with a shared colour scale;
+//! `mac.svg`: MAC matrices (the test shapes that paired the resonances, as the
+//! title names them, vs FE modes) as heat maps, one panel per model, with a shared colour scale;
 //! paired cells are outlined.
 
 use plotters::prelude::*;

@@ -121,7 +121,7 @@ impl IterationState {
         let sfdac = SfdacSummary::new(&eqs.fe_frf, &problem.h_test);
         let fe_shapes = modes.at(&meas.equations);
         let pairs = pair_modes(
-            &problem.test_shapes,
+            &problem.test_shapes.shapes,
             &problem.test_hz,
             &fe_shapes,
             &fe_hz,
