@@ -271,6 +271,7 @@ fn best_start(
         let settings = LmSettings {
             max_iter: START_ITERATIONS,
             negligible: START_GAIN * r0.iter().map(|v| v * v).sum::<f64>(),
+            ..LmSettings::default()
         };
         let Some(out) = lm::lm(obj, &x, &lo, &hi, settings) else {
             continue;

@@ -176,6 +176,7 @@ pub fn minimise(
     let settings = LmSettings {
         max_iter,
         negligible,
+        ..LmSettings::default()
     };
     let failed = || FitError::Eigen("the reduced model could not be solved".into());
     let mut out = lm::lm(obj, x0, lo, hi, settings).ok_or_else(failed)?;
@@ -197,6 +198,7 @@ pub fn minimise(
         let left = LmSettings {
             max_iter: max_iter - out.iterations,
             negligible,
+            ..LmSettings::default()
         };
         let again = lm::lm(obj, &out.x, lo, hi, left).ok_or_else(failed)?;
         let gain = c0 - again.residuals.iter().map(|v| v * v).sum::<f64>();
