@@ -401,6 +401,7 @@ fn mac_chart(
             .collect(),
         row_axis: "test resonance (Hz)".into(),
         column_axis: "FE mode (Hz)".into(),
+        scale_label: format!("MAC of the {} (dimensionless)", source.short_name()),
         panels: Vec::new(),
     };
     let Some(meas) = meas else {

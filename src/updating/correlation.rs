@@ -79,6 +79,14 @@ impl ShapeSource {
             ShapeSource::OperatingDeflection => "operating deflection shapes (ODS)",
         }
     }
+
+    /// "fitted shapes" or "ODS", for labels with little room.
+    pub fn short_name(self) -> &'static str {
+        match self {
+            ShapeSource::Fitted => "fitted shapes",
+            ShapeSource::OperatingDeflection => "ODS",
+        }
+    }
 }
 
 /// The test's shape of each resonance at the measured DOFs, [resonance][DOF],

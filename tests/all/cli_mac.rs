@@ -83,6 +83,13 @@ fn check_one_source(out: &std::path::Path, shapes: &str) {
     // The SVG escapes the apostrophe.
     let title = format!("MAC of the test&apos;s {words} vs FE modes");
     assert!(svg.contains(&title), "{}: {title}", out.display());
+    let short = if shapes == "fitted" {
+        "fitted shapes"
+    } else {
+        "ODS"
+    };
+    let scale = format!("MAC of the {short} (dimensionless)");
+    assert!(svg.contains(&scale), "{}: {scale}", out.display());
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(
         html.contains(&format!("MAC of the {words}")),
