@@ -303,9 +303,63 @@ pub fn csv_number(x: f64) -> String {
     }
 }
 
+/// `x` rounded to `digits` significant digits, written by [`csv_number`]'s
+/// rule: plain decimal for 1e-4 ≤ |x| < 1e6 (`0.004413691`), else
+/// `1.234568e-5`; trailing zeros dropped; zero is `0` (never `0e0`); NaN and
+/// infinities are empty cells. For tables whose precision is fixed.
+pub fn csv_number_sig(x: f64, digits: usize) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let sci = format!("{:.*e}", digits.max(1) - 1, x);
+    let Some((mantissa, exponent)) = sci.split_once('e') else {
+        return sci;
+    };
+    let exponent: i32 = exponent.parse().unwrap_or(0);
+    let rounded: f64 = sci.parse().unwrap_or(x);
+    if (1e-4..1e6).contains(&rounded.abs()) {
+        let decimals = (digits.max(1) as i32 - 1 - exponent).max(0) as usize;
+        trim_zeros(format!("{rounded:.decimals$}"))
+    } else {
+        format!("{}e{exponent}", trim_zeros(mantissa.to_string()))
+    }
+}
+
+/// `1.500` → `1.5`, `2.000` → `2`; text without a decimal point unchanged.
+fn trim_zeros(s: String) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
+}
+
 #[cfg(test)]
 mod csv_number_tests {
-    use super::csv_number;
+    use super::{csv_number, csv_number_sig};
+
+    /// Seven significant digits, plain or scientific by magnitude, never 0e0.
+    #[test]
+    fn fixed_precision_numbers_follow_the_same_rule() {
+        for (x, text) in [
+            (0.0, "0"),
+            (-0.0, "0"),
+            (4.413691234e-3, "0.004413691"),
+            (0.2270088, "0.2270088"),
+            (-1.5e-5, "-1.5e-5"),
+            (1.2345678e-7, "1.234568e-7"),
+            (2.0, "2"),
+            (123456.78, "123456.8"),
+            (9.9999999e5, "1e6"),
+            (3.0e7, "3e7"),
+            (f64::NAN, ""),
+        ] {
+            assert_eq!(csv_number_sig(x, 7), text, "{x}");
+        }
+    }
 
     /// Plain or scientific by magnitude, and every one reads back exactly.
     #[test]

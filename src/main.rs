@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use frfup::commands::progress::{Progress, StepReporter};
+use frfup::commands::progress::{Progress, StageReporter, StepReporter};
 use frfup::commands::{self, convert};
 use frfup::tasks::update::Thresholds;
 use frfup::tasks::{update, CommandError};
@@ -33,6 +33,10 @@ struct Cli {
     /// Any warning (data skipped or doubtful in an input) is an error: exit 2.
     #[arg(long, global = true)]
     strict: bool,
+    /// Show progress even off a terminal or in CI (one line per step on
+    /// stderr); without it, bars appear on a terminal only.
+    #[arg(long, global = true, conflicts_with = "quiet")]
+    progress: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -69,7 +73,12 @@ struct Global {
 // `frfup demo`.
 #[derive(clap::Args)]
 struct DemoArgs {
-    /// Output folder.
+    /// Output folder: input/garteur.deck and input/campaign.uff (the case),
+    /// then the files of `update`: report.html, report.md, report.json,
+    /// estimates.csv, parameters.csv, iterations.csv, frequencies.csv,
+    /// resonances.csv, updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv,
+    /// updated.deck, convergence.svg, frequencies.svg, sfdac.svg, mac.svg,
+    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long, default_value = "frfup-demo")]
     out: PathBuf,
 }
@@ -77,7 +86,9 @@ struct DemoArgs {
 // `frfup info`.
 #[derive(clap::Args)]
 struct InfoArgs {
-    file: PathBuf,
+    /// UFF files (dataset 58 FRFs and any other dataset), listed in order.
+    #[arg(required = true, num_args = 1..)]
+    files: Vec<PathBuf>,
     /// Print JSON instead of a table.
     #[arg(long)]
     json: bool,
@@ -86,13 +97,16 @@ struct InfoArgs {
 // `frfup convert`.
 #[derive(clap::Args)]
 struct ConvertArgs {
-    input: PathBuf,
-    /// Output file: .csv, .uff or .unv.
+    /// UFF files to read (dataset 58 records), in order; their records go into one output.
+    #[arg(required = true, num_args = 1..)]
+    inputs: Vec<PathBuf>,
+    /// Output file: .csv, .uff or .unv, or - for CSV on stdout. With several
+    /// inputs each CSV column starts with its file's name (FILE:resp/ref).
     output: PathBuf,
     /// Convert FRFs to this kind.
     #[arg(long, value_enum)]
     to: Option<ToKind>,
-    /// Records to keep: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
+    /// Records to keep in each input: 1-based positions/ranges (1-4,7) or response DOFs (112:3, 112:+z).
     #[arg(long)]
     channels: Option<String>,
     /// Write 58b binary records (UFF output only).
@@ -103,21 +117,26 @@ struct ConvertArgs {
 // `frfup modes`.
 #[derive(clap::Args)]
 struct ModesArgs {
+    /// The model: a deck file (docs/deck.md).
     deck: PathBuf,
     /// How many of the lowest modes.
     #[arg(long, default_value_t = 20, value_parser = at_least_one)]
     count: usize,
-    /// Also write the table as CSV (mode,frequency_hz,generalised_mass_kg).
+    /// Also write the table to this CSV file (mode,frequency_hz,generalised_mass_kg).
     #[arg(long)]
     csv: Option<PathBuf>,
     /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,
+    /// Print the table as JSON on stdout (keys as the CSV's columns).
+    #[arg(long)]
+    json: bool,
 }
 
 // `frfup simulate`.
 #[derive(clap::Args)]
 struct SimulateArgs {
+    /// The model whose FRFs are computed: a deck file (docs/deck.md).
     deck: PathBuf,
     /// Excitation DOF NODE:DIR (DIR a UFF code such as 3 or -3, or a name such as +z).
     /// Required unless --response is given.
@@ -131,12 +150,13 @@ struct SimulateArgs {
     /// Frequency lines F0:F1:N (Hz).
     #[arg(long, allow_hyphen_values = true)]
     band: String,
-    /// Output UFF file.
+    /// The UFF file written (dataset 58 records, one per sensor).
     #[arg(long)]
     out: PathBuf,
-    /// FRF kind written.
+    /// Which FRF is written: displacement (receptance), velocity (mobility)
+    /// or acceleration (accelerance) per unit force.
     #[arg(long, value_enum, default_value = "accelerance")]
-    output: OutputKind,
+    kind: KindArg,
     /// Sensors: all (every free translational DOF) or NODE:DIR,NODE:DIR,...
     #[arg(long, default_value = "all", allow_hyphen_values = true)]
     sensors: String,
@@ -160,11 +180,21 @@ struct SimulateArgs {
 // `frfup update`.
 #[derive(clap::Args)]
 struct UpdateArgs {
+    /// The model: a deck file whose `param` lines are updated (docs/deck.md).
     deck: PathBuf,
+    /// The measured FRFs: a UFF file of dataset 58/58b records.
     test: PathBuf,
-    /// Output folder: report.json, CSV tables, updated.deck, report.md.
+    /// Output folder (created; replaced as a whole): report.html, report.md,
+    /// report.json, estimates.csv (robust only), parameters.csv,
+    /// iterations.csv, frequencies.csv, resonances.csv,
+    /// updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv, updated.deck,
+    /// convergence.svg, frequencies.svg, sfdac.svg, mac.svg, frf-overlay.svg
+    /// and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
+    /// Print a JSON summary on stdout (the main keys of report.json) instead of text.
+    #[arg(long)]
+    json: bool,
     #[command(flatten)]
     settings: UpdateSettings,
     #[command(flatten)]
@@ -174,9 +204,13 @@ struct UpdateArgs {
 // `frfup diagnose`.
 #[derive(clap::Args)]
 struct DiagnoseArgs {
+    /// The model: a deck file (docs/deck.md).
     deck: PathBuf,
+    /// The measured FRFs: a UFF file of dataset 58/58b records.
     test: PathBuf,
-    /// Output folder.
+    /// Output folder (created; replaced as a whole): diagnosis.json,
+    /// diagnosed.deck, report.md, report.html, localisation.svg,
+    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
     /// Take the deck's parameters as they are (no update first).
@@ -185,6 +219,13 @@ struct DiagnoseArgs {
     /// At most this many extensions.
     #[arg(long, default_value_t = 4)]
     max_findings: usize,
+    /// Exit 1 if the diagnosed model's FRF error is above X times the noise
+    /// level (1 = the model explains the test to the noise), for CI.
+    #[arg(long, value_name = "X", value_parser = finite)]
+    fail_above_error: Option<f64>,
+    /// Print a JSON summary on stdout (diagnosis.json with the verdict) instead of text.
+    #[arg(long)]
+    json: bool,
     /// Options of the first step, the update of the deck's own parameters
     /// (`--method paper` unless given).
     #[command(flatten)]
@@ -194,8 +235,11 @@ struct DiagnoseArgs {
 // `frfup batch`.
 #[derive(clap::Args)]
 struct BatchArgs {
+    /// The campaign: a TOML file of [[case]] tables (model, test and update
+    /// options per case; docs/campaign.md).
     campaign: PathBuf,
-    /// Output folder: one folder per case, summary.md/.csv/.json.
+    /// Output folder: summary.html, summary.md, summary.csv, summary.json and one folder
+    /// per case holding the files of `update` (see `frfup update --help`).
     #[arg(long)]
     out: PathBuf,
     /// Cases run at once.
@@ -204,6 +248,9 @@ struct BatchArgs {
     /// Run only shard I of N (I/N, 1-based): cases i with i mod N = I - 1.
     #[arg(long, value_name = "I/N")]
     shard: Option<String>,
+    /// Print summary.json on stdout instead of the totals line.
+    #[arg(long)]
+    json: bool,
     #[command(flatten)]
     thresholds: Thresholds,
 }
@@ -218,18 +265,18 @@ fn at_least_one(s: &str) -> Result<usize, String> {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum OutputKind {
+enum KindArg {
     Receptance,
     Mobility,
     Accelerance,
 }
 
-impl OutputKind {
+impl KindArg {
     fn kind(self) -> FrfKind {
         match self {
-            OutputKind::Receptance => FrfKind::Receptance,
-            OutputKind::Mobility => FrfKind::Mobility,
-            OutputKind::Accelerance => FrfKind::Accelerance,
+            KindArg::Receptance => FrfKind::Receptance,
+            KindArg::Mobility => FrfKind::Mobility,
+            KindArg::Accelerance => FrfKind::Accelerance,
         }
     }
 }
@@ -259,12 +306,12 @@ fn run(cli: Cli) -> Result<(), CommandError> {
         quiet: cli.quiet,
         verbose: cli.verbose,
         strict: cli.strict,
-        progress: Progress::detect(cli.quiet),
+        progress: Progress::with_flags(cli.quiet, cli.progress),
     };
     match cli.command {
         Command::Demo(a) => demo(a, &g),
         Command::Info(a) => {
-            print!("{}", commands::info::run(&a.file, a.json, g.progress)?);
+            print!("{}", commands::info::run(&a.files, a.json, g.progress)?);
             Ok(())
         }
         Command::Convert(a) => convert(a, &g),
@@ -279,7 +326,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
 fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
     frfup::fsio::check_out_folder(&a.out).map_err(CommandError::input)?;
     let start = std::time::Instant::now();
-    let reporter = StepReporter::new(g.quiet, 21, "iteration");
+    let reporter = StepReporter::new(g.progress, 21, "iteration");
     let result = commands::demo::run(&a.out, &mut |rec| {
         reporter.step(&iteration_line(rec));
     });
@@ -298,7 +345,7 @@ fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
 
 fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
     let summary = convert::run(&convert::ConvertOptions {
-        input: a.input,
+        inputs: a.inputs,
         output: a.output.clone(),
         to: a.to.map(ToKind::target),
         channels: a.channels,
@@ -314,7 +361,11 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
             "wrote {} record(s) of {} line(s) to {}",
             summary.records,
             summary.lines,
-            a.output.display()
+            if convert::is_stdout(&a.output) {
+                "stdout".to_string()
+            } else {
+                a.output.display().to_string()
+            }
         );
     }
     Ok(())
@@ -322,13 +373,17 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
 
 fn modes(a: ModesArgs) -> Result<(), CommandError> {
     let values = commands::modes::parse_settings(&a.set)?;
-    let table = commands::modes::run(&commands::modes::ModesOptions {
-        deck: a.deck,
+    let rows = commands::modes::run(&commands::modes::ModesOptions {
+        deck: a.deck.clone(),
         count: a.count,
         csv: a.csv,
         values,
     })?;
-    print!("{table}");
+    if a.json {
+        print_json(&commands::modes::json(&a.deck, &rows));
+    } else {
+        print!("{}", commands::modes::table(&rows));
+    }
     Ok(())
 }
 
@@ -352,7 +407,7 @@ fn simulate(a: SimulateArgs, g: &Global) -> Result<(), CommandError> {
         band: sim::parse_band(&a.band)?,
         lines_hz: None,
         response,
-        output: a.output.kind(),
+        output: a.kind.kind(),
         sensors: sim::parse_sensors(&a.sensors)?,
         noise: a.noise,
         seed: a.seed,
@@ -379,15 +434,23 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         options: a.settings.resolve(UpdateMethod::Robust),
         strict: g.strict,
     };
-    let reporter = StepReporter::new(g.quiet, cmd.options.max_iter as u64 + 1, "iteration");
+    let reporter = StepReporter::new(g.progress, cmd.options.max_iter as u64 + 1, "iteration");
     let result = update::run(&cmd, &mut |rec| {
         reporter.step(&iteration_line(rec));
     });
     reporter.finish();
     let outcome = result?;
     print_timings(g.verbose, &outcome);
-    print_update_summary(&outcome);
-    println!("wrote {}", a.out.display());
+    if a.json {
+        let mut v = frfup::report::output::summary_json(&outcome.result);
+        v["out"] = a.out.display().to_string().into();
+        v["threshold_failures"] = update::threshold_failures(&outcome, a.thresholds).into();
+        print_json(&v);
+        print_warnings(&outcome);
+    } else {
+        print_update_summary(&outcome);
+        println!("wrote {}", a.out.display());
+    }
     if !outcome.result.converged {
         return Err(CommandError::threshold(format!(
             "not converged: {}",
@@ -395,6 +458,11 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         )));
     }
     check_thresholds(&outcome, a.thresholds)
+}
+
+/// A `--json` summary on stdout, pretty-printed, one value.
+fn print_json(v: &serde_json::Value) {
+    println!("{}", serde_json::to_string_pretty(v).unwrap_or_default());
 }
 
 fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
@@ -410,19 +478,33 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         },
         strict: g.strict,
     };
-    let d = commands::diagnose::run(&cmd)?;
+    let reporter = StageReporter::new(g.progress);
+    let d = commands::diagnose::run(&cmd, &|s| reporter.stage(s));
+    reporter.finish();
+    let d = d?;
     if g.verbose {
         for (stage, secs, units) in &d.timings {
             eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
         }
     }
-    print!("{}", commands::diagnose::summary(&d));
-    println!("wrote {}", a.out.display());
-    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
-    if verdict.is_conclusive() {
-        Ok(())
+    if a.json {
+        print_json(&commands::diagnose::json(&d, &a.out));
     } else {
-        Err(CommandError::threshold(verdict.status()))
+        print!("{}", commands::diagnose::summary(&d));
+        println!("wrote {}", a.out.display());
+    }
+    let verdict = frfup::diagnosis::verdict::Verdict::of(&d);
+    if !verdict.is_conclusive() {
+        return Err(CommandError::threshold(verdict.status()));
+    }
+    match a.fail_above_error {
+        Some(x) if d.diagnosed.frf_error.is_nan() || d.diagnosed.frf_error > x => {
+            Err(CommandError::threshold(format!(
+                "FRF error {:.2} x the noise level > {x}",
+                d.diagnosed.frf_error
+            )))
+        }
+        _ => Ok(()),
     }
 }
 
@@ -446,7 +528,7 @@ fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
         &|c, n, total| {
             let line = format!("[{n}/{total}] {}", case_line(c));
             if let Ok(mut r) = reporter.lock() {
-                r.get_or_insert_with(|| StepReporter::new(g.quiet, total as u64, "case"))
+                r.get_or_insert_with(|| StepReporter::new(g.progress, total as u64, "case"))
                     .step(&line);
             }
         },
@@ -457,11 +539,15 @@ fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {
         }
     }
     let summary = result?;
-    println!(
-        "{}; summary in {}",
-        summary.totals(),
-        a.out.join("summary.md").display()
-    );
+    if a.json {
+        print_json(&frfup::batch::summary_json(&summary));
+    } else {
+        println!(
+            "{}; summary in {}",
+            summary.totals(),
+            a.out.join("summary.md").display()
+        );
+    }
     match summary.exit_code() {
         0 => Ok(()),
         1 => {
@@ -533,7 +619,11 @@ fn print_update_summary(outcome: &update::UpdateOutcome) {
             }
         }
     }
-    for w in &r.warnings {
+    print_warnings(outcome);
+}
+
+fn print_warnings(outcome: &update::UpdateOutcome) {
+    for w in &outcome.result.warnings {
         eprintln!("warning: {w}");
     }
 }

@@ -1,9 +1,10 @@
 //! `frfup batch`: run a campaign of updates for CI. Each case gets its own
-//! folder; `summary.md`, `summary.csv` and `summary.json` give one line per
+//! folder; `summary.md`, `summary.csv`, `summary.json` and `summary.html` give one line per
 //! case. A failing case never stops the others. Exit code: 2 if any case could
 //! not run, else 1 if any threshold failed, else 0.
 
 pub mod campaign;
+pub mod page;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -347,7 +348,24 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             }
         }
     }
-    let json = json!({
+    let json = summary_json(s);
+    let html = page::summary_html(s, dir);
+    let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
+    for (name, body) in [
+        ("summary.csv", csv),
+        ("summary.md", md),
+        ("summary.json", json),
+        ("summary.html", html),
+    ] {
+        let p = dir.join(name);
+        write_atomic(&p, body.as_bytes()).map_err(|e| CommandError::output(&p, e))?;
+    }
+    Ok(())
+}
+
+/// `summary.json` as a value (also `frfup batch --json`'s stdout).
+pub fn summary_json(s: &BatchSummary) -> serde_json::Value {
+    json!({
         "exit_code": s.exit_code(),
         "totals": {
             "cases": s.cases.len(),
@@ -373,15 +391,5 @@ pub fn write_summaries(dir: &Path, s: &BatchSummary) -> Result<(), CommandError>
             "wall_time_s": c.wall_time_s,
             "input_notes": c.input_notes,
         })).collect::<Vec<_>>(),
-    });
-    let json = serde_json::to_string_pretty(&json).unwrap_or_default() + "\n";
-    for (name, body) in [
-        ("summary.csv", csv),
-        ("summary.md", md),
-        ("summary.json", json),
-    ] {
-        let p = dir.join(name);
-        write_atomic(&p, body.as_bytes()).map_err(|e| CommandError::output(&p, e))?;
-    }
-    Ok(())
+    })
 }

@@ -1,4 +1,6 @@
-//! `frfup convert IN OUT [--to KIND] [--channels SPEC] [--binary]`.
+//! `frfup convert IN... OUT [--to KIND] [--channels SPEC] [--binary]`: the
+//! records of every input, in order, into one CSV or UFF file (`-`: CSV on
+//! stdout). With several inputs each CSV column names its file.
 
 use std::path::{Path, PathBuf};
 
@@ -20,10 +22,13 @@ pub enum Target {
 /// Options of `frfup convert`.
 #[derive(Clone, Debug)]
 pub struct ConvertOptions {
-    pub input: PathBuf,
+    /// One or more UFF files, read in order.
+    pub inputs: Vec<PathBuf>,
+    /// `.csv`, `.uff`, `.unv`, or `-` (CSV on stdout).
     pub output: PathBuf,
     pub to: Option<Target>,
-    /// Channel selection (see [`select`]); `None` keeps every dataset 58.
+    /// Channel selection (see [`select`]), applied to each input; `None`
+    /// keeps every dataset 58.
     pub channels: Option<String>,
     pub binary: bool,
     pub progress: Progress,
@@ -42,9 +47,19 @@ pub struct ConvertSummary {
 enum OutputFormat {
     Csv,
     Uff,
+    /// CSV on stdout (`-`).
+    Stdout,
+}
+
+/// The output `-`: CSV on stdout.
+pub fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
 }
 
 fn output_format(path: &Path) -> Result<OutputFormat, CommandError> {
+    if is_stdout(path) {
+        return Ok(OutputFormat::Stdout);
+    }
     let ext = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -53,7 +68,7 @@ fn output_format(path: &Path) -> Result<OutputFormat, CommandError> {
         "csv" => Ok(OutputFormat::Csv),
         "uff" | "unv" => Ok(OutputFormat::Uff),
         _ => Err(CommandError::input(format!(
-            "{}: output must end in .csv, .uff or .unv",
+            "{}: output must end in .csv, .uff or .unv (or be - for CSV on stdout)",
             path.display()
         ))),
     }
@@ -144,32 +159,38 @@ pub fn parse_direction(s: &str) -> Option<i32> {
 /// Run `frfup convert`.
 pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
     let format = output_format(&opts.output)?;
-    let file = read_uff(&opts.input, opts.progress)?;
-    // The loader's notes too (values no FRF has, channels measured twice ...)
-    // where the file holds FRFs; the parser's alone otherwise.
-    let notes = testdata::from_uff_with_notes(&file, &opts.input)
-        .map(|l| l.notes)
-        .unwrap_or_else(|_| file.notes.clone());
-    warn_notes(&opts.input, &notes, opts.strict)?;
-    let selected = select(&file, opts.channels.as_deref())?;
-    if selected.is_empty() {
-        return Err(CommandError::input(format!(
-            "{}: no dataset 58 record to convert",
-            opts.input.display()
-        )));
-    }
     let mut notes = Vec::new();
-    let records: Vec<Function58> = match opts.to {
-        None => selected.into_iter().cloned().collect(),
-        Some(target) => convert_selected(&selected, target, &opts.input, &mut notes)?,
-    };
+    let mut records = Vec::new();
+    let mut sources = Vec::new();
+    for input in &opts.inputs {
+        let mut own = Vec::new();
+        let converted = read_selected(opts, input, &mut own)?;
+        sources.extend(std::iter::repeat_n(
+            input.display().to_string(),
+            converted.len(),
+        ));
+        records.extend(converted);
+        notes.extend(own.into_iter().map(|n| match opts.inputs.len() {
+            1 => n,
+            _ => format!("{}: {n}", input.display()),
+        }));
+    }
     let lines = records.first().map(|f| f.len()).unwrap_or(0);
     let count = records.len();
+    let sources = (opts.inputs.len() > 1).then_some(sources.as_slice());
+    let units: Vec<Option<String>> = records.iter().map(|f| value_units(f, opts.to)).collect();
+    let csv = || {
+        csv_text_from(&records, sources, Some(&units))
+            .map_err(|e| CommandError::input(format!("{}: {e}", opts.inputs[0].display())))
+    };
     let written = match format {
         OutputFormat::Csv => {
-            let csv = csv_text(&records)
-                .map_err(|e| CommandError::input(format!("{}: {e}", opts.input.display())))?;
+            let csv = csv()?;
             write_atomic_with(&opts.output, |w| w.write_all(csv.as_bytes()))
+        }
+        OutputFormat::Stdout => {
+            let csv = csv()?;
+            std::io::Write::write_all(&mut std::io::stdout().lock(), csv.as_bytes())
         }
         OutputFormat::Uff => {
             let records: Vec<Function58> = records
@@ -190,6 +211,32 @@ pub fn run(opts: &ConvertOptions) -> Result<ConvertSummary, CommandError> {
         lines,
         notes,
     })
+}
+
+/// The records of one input chosen by `--channels` and converted by `--to`.
+fn read_selected(
+    opts: &ConvertOptions,
+    input: &Path,
+    notes: &mut Vec<String>,
+) -> Result<Vec<Function58>, CommandError> {
+    let file = read_uff(input, opts.progress)?;
+    // The loader's notes too (values no FRF has, channels measured twice ...)
+    // where the file holds FRFs; the parser's alone otherwise.
+    let read_notes = testdata::from_uff_with_notes(&file, input)
+        .map(|l| l.notes)
+        .unwrap_or_else(|_| file.notes.clone());
+    warn_notes(input, &read_notes, opts.strict)?;
+    let selected = select(&file, opts.channels.as_deref())?;
+    if selected.is_empty() {
+        return Err(CommandError::input(format!(
+            "{}: no dataset 58 record to convert",
+            input.display()
+        )));
+    }
+    match opts.to {
+        None => Ok(selected.into_iter().cloned().collect()),
+        Some(target) => convert_selected(&selected, target, input, notes),
+    }
 }
 
 /// The selected records with their FRFs (function type 4) converted to
@@ -313,6 +360,49 @@ fn converted_records(
 /// CSV: `frequency_hz` (or the abscissa's name) then, per record, `<resp>/<ref> re`
 /// and `im`, or one column for real data. All records must share the abscissa.
 pub fn csv_text(records: &[Function58]) -> Result<String, String> {
+    csv_text_from(records, None, None)
+}
+
+/// The unit of a record's values for a CSV header: `kind`'s SI unit when
+/// convert made them SI (`--to`), else the file's axis labels (info's
+/// `units`), `None` when the file gives none.
+pub fn value_units(f: &Function58, to: Option<Target>) -> Option<String> {
+    match to {
+        Some(Target::Kind(kind)) => Some(kind.units().to_string()),
+        Some(Target::DisplacementReal) => Some(FrfKind::Receptance.units().to_string()),
+        None => Some(super::info::units(f)).filter(|u| u != "-"),
+    }
+}
+
+/// The name of a record's column(s): `resp/ref` (a channel without a
+/// reference, such as a time record: `resp` alone), `FILE:` first when
+/// `source` is given.
+fn column_label(f: &Function58, source: Option<&str>) -> String {
+    let label = |e: &str, n: i64, d: i32| crate::testdata::entity_dof_label(e, n, d);
+    let response = label(&f.response_entity, f.response_node, f.response_direction);
+    let entity = f.reference_entity.trim();
+    let no_reference =
+        f.reference_node == 0 && (entity.is_empty() || entity.eq_ignore_ascii_case("none"));
+    let channel = if no_reference {
+        response
+    } else {
+        let reference = label(&f.reference_entity, f.reference_node, f.reference_direction);
+        format!("{response}/{reference}")
+    };
+    match source {
+        Some(file) => format!("{file}:{channel}"),
+        None => channel,
+    }
+}
+
+/// [`csv_text`], each column named `FILE:<resp>/<ref>` when `sources` (one
+/// file name per record) is given and with its unit (`re[m/s^2/N]`) when
+/// `units` gives one; a name met twice gets ` #2`, ` #3`, ...
+pub fn csv_text_from(
+    records: &[Function58],
+    sources: Option<&[String]>,
+    units: Option<&[Option<String>]>,
+) -> Result<String, String> {
     let first = records.first().ok_or("no record")?;
     let n = first.len();
     for (i, f) in records.iter().enumerate() {
@@ -336,25 +426,24 @@ pub fn csv_text(records: &[Function58]) -> Result<String, String> {
     };
     let mut w = csv::WriterBuilder::new().from_writer(Vec::new());
     let mut header = vec![abscissa.to_string()];
-    for f in records {
-        let label = format!(
-            "{}/{}",
-            crate::testdata::entity_dof_label(
-                &f.response_entity,
-                f.response_node,
-                f.response_direction
-            ),
-            crate::testdata::entity_dof_label(
-                &f.reference_entity,
-                f.reference_node,
-                f.reference_direction
-            )
-        );
+    let mut seen: Vec<String> = Vec::new();
+    for (i, f) in records.iter().enumerate() {
+        let base = column_label(f, sources.map(|s| s[i].as_str()));
+        let count = seen.iter().filter(|s| **s == base).count();
+        seen.push(base.clone());
+        let name = match count {
+            0 => base,
+            c => format!("{base} #{}", c + 1),
+        };
+        let unit = units
+            .and_then(|u| u[i].as_deref())
+            .map(|u| format!("[{u}]"))
+            .unwrap_or_default();
         if f.ordinate.is_complex() {
-            header.push(format!("{label} re"));
-            header.push(format!("{label} im"));
+            header.push(format!("{name} re{unit}"));
+            header.push(format!("{name} im{unit}"));
         } else {
-            header.push(label);
+            header.push(format!("{name}{unit}"));
         }
     }
     w.write_record(&header).map_err(|e| e.to_string())?;

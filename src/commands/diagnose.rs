@@ -20,8 +20,10 @@ pub struct DiagnoseCommand {
     pub strict: bool,
 }
 
-/// Run a diagnosis and write its files into `out`.
-pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
+/// Run a diagnosis and write its files into `out`; `stage` hears each
+/// stage start (a few words, for a progress display).
+pub fn run(cmd: &DiagnoseCommand, stage: &dyn Fn(&str)) -> Result<Diagnosis, CommandError> {
+    stage("reading the inputs");
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = read_deck(&cmd.deck)?;
     check_model_for_modes(&cmd.deck, &deck)?;
@@ -30,7 +32,7 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
         .iter()
         .map(|n| format!("{}: {n}", cmd.test.display()))
         .collect();
-    let d = diagnosis::diagnose(&deck, &test, &cmd.options).map_err(|e| {
+    let d = diagnosis::diagnose_with_progress(&deck, &test, &cmd.options, stage).map_err(|e| {
         let e = name_mechanism_equations(&e.to_string(), &deck);
         CommandError::input(format!(
             "{} with {}: {e}",
@@ -38,6 +40,7 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
             cmd.test.display()
         ))
     })?;
+    stage("writing the report");
     crate::fsio::write_folder(&cmd.out, |dir| {
         crate::report::diagnosis::write_outputs_with_notes(
             &d,
@@ -51,6 +54,17 @@ pub fn run(cmd: &DiagnoseCommand) -> Result<Diagnosis, CommandError> {
     })
     .map_err(|e| CommandError::output(&cmd.out, e))?;
     Ok(d)
+}
+
+/// The summary of `frfup diagnose --json`: `diagnosis.json`'s content (the
+/// same value) with the verdict (`status`, `verdict`) and the output folder.
+pub fn json(d: &Diagnosis, out: &std::path::Path) -> serde_json::Value {
+    let verdict = diagnosis::verdict::Verdict::of(d);
+    let mut v = crate::report::diagnosis::output::diagnosis_json(d);
+    v["status"] = verdict.status().into();
+    v["verdict"] = verdict.sentence().into();
+    v["out"] = out.display().to_string().into();
+    v
 }
 
 /// One line per finding, for the terminal.

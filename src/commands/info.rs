@@ -1,7 +1,8 @@
-//! `frfup info FILE [--json]`: one line per dataset.
+//! `frfup info FILE... [--json]`: one line per dataset; with several files
+//! each line starts with its file, and each JSON record has a `file` field.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::PathBuf;
 
 use frfup_parsers::uff::{Abscissa, Dataset, Function58, UffFile};
 use serde_json::{json, Value};
@@ -21,7 +22,9 @@ pub fn ordinate_type_name(code: i32) -> &'static str {
     }
 }
 
-fn units(f: &Function58) -> String {
+/// The unit of a record's values from its axis labels (`m/s^2 / N`), `-`
+/// when the file names none.
+pub fn units(f: &Function58) -> String {
     let num = f.numerator_axis.units_label.trim();
     let den = f.denominator_axis.units_label.trim();
     let num = if num.is_empty() || num.eq_ignore_ascii_case("none") {
@@ -170,14 +173,62 @@ fn finite_or_null(x: f64) -> Value {
     }
 }
 
-/// Run `frfup info`: the text table or JSON for one file.
-pub fn run(path: &Path, as_json: bool, progress: Progress) -> Result<String, CommandError> {
-    let file = read_uff(path, progress)?;
+/// Run `frfup info`: the text table or JSON of one or more files.
+pub fn run(paths: &[PathBuf], as_json: bool, progress: Progress) -> Result<String, CommandError> {
+    let mut tables = Vec::new();
+    let mut records = Vec::new();
+    let mut notes = Vec::new();
+    for path in paths {
+        let file = read_uff(path, progress)?;
+        let name = path.display().to_string();
+        if as_json {
+            let v = json(&file);
+            for mut r in v["records"].as_array().cloned().unwrap_or_default() {
+                r["file"] = name.clone().into();
+                records.push(r);
+            }
+            notes.extend(file.notes.iter().map(|n| match paths.len() {
+                1 => n.clone(),
+                _ => format!("{name}: {n}"),
+            }));
+        } else {
+            tables.push((name, table(&file)));
+        }
+    }
     Ok(if as_json {
-        let mut s = serde_json::to_string_pretty(&json(&file)).unwrap_or_default();
+        let v = json!({ "records": records, "notes": notes });
+        let mut s = serde_json::to_string_pretty(&v).unwrap_or_default();
         s.push('\n');
         s
+    } else if tables.len() == 1 {
+        tables.remove(0).1
     } else {
-        table(&file)
+        with_file_column(&tables)
     })
+}
+
+/// The tables of several files as one, each line led by its file (the
+/// header once, `file` first).
+fn with_file_column(tables: &[(String, String)]) -> String {
+    let width = tables
+        .iter()
+        .map(|(n, _)| n.len())
+        .max()
+        .unwrap_or(0)
+        .max(4);
+    let mut out = String::new();
+    for (i, (name, table)) in tables.iter().enumerate() {
+        for (k, line) in table.lines().enumerate() {
+            match (k, i) {
+                (0, 0) => {
+                    let _ = writeln!(out, "{:<width$}  {line}", "file");
+                }
+                (0, _) => {}
+                _ => {
+                    let _ = writeln!(out, "{name:<width$}  {line}");
+                }
+            }
+        }
+    }
+    out
 }

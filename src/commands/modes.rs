@@ -17,12 +17,13 @@ pub struct ModesOptions {
     pub values: ParameterValues,
 }
 
-/// One row of the modes table.
-#[derive(Clone, Debug, PartialEq)]
+/// One row of the modes table (and of `--json`'s `modes`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ModeRow {
     pub mode: usize,
     pub frequency_hz: f64,
     /// Generalised mass φ̂ᵀMφ̂ (kg) of the shape scaled to a largest translation of 1.
+    #[serde(rename = "generalised_mass_kg")]
     pub generalised_mass: f64,
 }
 
@@ -106,13 +107,19 @@ pub fn csv_text(rows: &[ModeRow]) -> String {
     s
 }
 
-/// Run `frfup modes`: returns the table to print.
-pub fn run(opts: &ModesOptions) -> Result<String, CommandError> {
+/// Run `frfup modes`: solve, write `--csv` if asked; returns the rows to
+/// print ([`table`] or [`json`]).
+pub fn run(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
     let rows = solve(opts)?;
     if let Some(csv) = &opts.csv {
         write_atomic(csv, csv_text(&rows).as_bytes()).map_err(|e| CommandError::output(csv, e))?;
     }
-    Ok(table(&rows))
+    Ok(rows)
+}
+
+/// The summary of `frfup modes --json`: the deck and its rows, keyed as the CSV's columns.
+pub fn json(deck: &Path, rows: &[ModeRow]) -> serde_json::Value {
+    serde_json::json!({ "deck": deck.display().to_string(), "modes": rows })
 }
 
 /// Parse `NAME=VALUE` settings of `--set` into parameter values.

@@ -164,6 +164,18 @@ pub fn diagnose(
     test: &MeasuredFrfs,
     opts: &DiagnoseOptions,
 ) -> Result<Diagnosis, DiagnoseError> {
+    diagnose_with_progress(deck, test, opts, &|_| {})
+}
+
+/// [`diagnose`], calling `stage` with a few words as each stage starts
+/// (for a progress display).
+pub fn diagnose_with_progress(
+    deck: &Deck,
+    test: &MeasuredFrfs,
+    opts: &DiagnoseOptions,
+    stage: &dyn Fn(&str),
+) -> Result<Diagnosis, DiagnoseError> {
+    stage("preparing the test data");
     let mut timings: Vec<(&'static str, f64, usize)> = Vec::new();
     let mut clock = std::time::Instant::now();
     let mut solved = 0usize;
@@ -179,12 +191,14 @@ pub fn diagnose(
     lap("prepare test data", 0);
 
     // 1. The deck as given, then with its own parameters updated.
+    stage("updating the deck's parameters");
     let initial = quality(&engine, deck, &search.start_damping)?;
     let first = first_stage::update_own_parameters(&search);
     let updated = quality(&engine, &first.deck, &search.start_damping)?;
     lap("update the deck's parameters", engine.evaluations.get());
 
     // 2.–4. Greedy extensions from each start.
+    stage("searching for missing physics");
     let best = search.extensions_from_starts(&first.deck)?;
     lap("search extensions (all starts)", engine.evaluations.get());
     let Some(g) = best else {
@@ -194,6 +208,7 @@ pub fn diagnose(
     };
 
     // The damping of the extended model.
+    stage("fitting the damping of the extended model");
     let current = g.current;
     let damp = final_damping::choose_form_again(&search, &current, g.damp);
     let final_fit = final_damping::fit_final_damping(&search, &current, &damp)?;

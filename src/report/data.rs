@@ -15,7 +15,8 @@ use super::output::frequency_rows;
 use crate::testdata::{FrfKind, MeasuredFrfs};
 use crate::updating::measured::MeasuredDofs;
 use crate::updating::model_states::{nearest, ModelStates, ModelView};
-use crate::updating::{mac, ModePair, UpdateResult};
+use crate::updating::MacMatrix;
+use crate::updating::{ModePair, UpdateResult};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
@@ -44,6 +45,8 @@ pub struct ReportData {
     pub sfdac: SfdacChart,
     pub frequencies: FrequencyChart,
     pub mac: MacChart,
+    /// The test shapes of the MAC chart (those that paired the resonances).
+    pub mac_source: crate::updating::ShapeSource,
     /// The FRF kind of the test (the overlay is in this kind).
     pub kind: FrfKind,
     /// Labels of the measured DOFs used (test node ids), and the excitation.
@@ -98,6 +101,8 @@ pub fn report_data(
         updated,
         first_pairs,
         last_pairs,
+        mac_initial,
+        mac_updated,
         notes,
     } = states.clone();
     let kind = test.kind;
@@ -109,11 +114,10 @@ pub fn report_data(
         mac: mac_chart(
             result,
             meas.as_ref(),
-            &initial,
-            &updated,
-            &first_pairs,
-            &last_pairs,
+            [(&initial, &mac_initial), (&updated, &mac_updated)],
+            [&first_pairs, &last_pairs],
         ),
+        mac_source: result.pairing_shapes.source,
         frf,
         kind,
         measured_labels: meas.as_ref().map(|m| m.labels.clone()).unwrap_or_default(),
@@ -160,23 +164,47 @@ fn convergence_chart(result: &UpdateResult, title: &str) -> ConvergenceChart {
             .get(result.final_iteration)
             .map(|r| r.index),
         stages: stage_marks(result),
+        not_identified: result
+            .parameter_names
+            .iter()
+            .map(|n| {
+                result
+                    .estimate
+                    .as_ref()
+                    .is_some_and(|e| e.parameters.iter().any(|p| &p.name == n && !p.identified))
+            })
+            .collect(),
     }
 }
 
-/// The full-band estimate, when the run made one and kept it, is the last
-/// record: marked as a stage of its own.
+/// Where the frequencies-first stage hands over to the FRF equations, and
+/// the full-band estimate, when the run made one and kept it (the last
+/// record): each marked as a stage of its own.
 fn stage_marks(result: &UpdateResult) -> Vec<StageMark> {
+    use crate::updating::IterationStage;
+    let mut marks = Vec::new();
+    let records = &result.iterations;
+    let handover = records
+        .windows(2)
+        .find(|w| w[0].stage == IterationStage::Frequencies && w[1].stage == IterationStage::Frf);
+    if let Some(w) = handover {
+        marks.push(StageMark {
+            at: w[1].index,
+            label: "FRF stage after frequencies first".into(),
+        });
+    }
     let rejected = result
         .warnings
         .iter()
         .any(|w| matches!(w, crate::updating::UpdateWarning::EstimateRejected { .. }));
-    match (&result.estimate, result.iterations.last()) {
-        (Some(_), Some(last)) if !rejected && last.index > 0 => vec![StageMark {
+    match (&result.estimate, records.last()) {
+        (Some(_), Some(last)) if !rejected && last.index > 0 => marks.push(StageMark {
             at: last.index,
             label: "full-band estimate".into(),
-        }],
-        _ => Vec::new(),
+        }),
+        _ => {}
     }
+    marks
 }
 
 fn sfdac_chart(result: &UpdateResult) -> SfdacChart {
@@ -313,10 +341,12 @@ fn mac_columns(modes_hz: &[f64], lines_hz: &[f64], paired: &[usize]) -> Vec<usiz
     cols
 }
 
+/// One panel of the MAC chart: the columns of `mac` (computed on the
+/// algorithm side) worth showing, the pairs outlined.
 fn mac_panel(
     label: &str,
     view: &ModelView,
-    ods: &[Vec<f64>],
+    mac: &MacMatrix,
     lines_hz: &[f64],
     pairs: &[Option<ModePair>],
 ) -> MacPanel {
@@ -331,11 +361,12 @@ fn mac_panel(
     MacPanel {
         label: label.to_string(),
         column_labels: super::charts::sfdac::frequency_labels(&col_hz),
-        values: ods
+        values: mac
+            .values
             .iter()
-            .map(|t| {
+            .map(|row| {
                 cols.iter()
-                    .map(|&r| view.shapes.get(r).map(|s| mac(t, s)).unwrap_or(f64::NAN))
+                    .map(|&r| row.get(r).copied().unwrap_or(f64::NAN))
                     .collect()
             })
             .collect(),
@@ -346,19 +377,21 @@ fn mac_panel(
     }
 }
 
+/// The MAC chart of the initial and updated models: the MAC matrices of
+/// [`ModelStates`], titled with their shape source (the one that paired the
+/// resonances, so the chart and the frequency table agree).
 fn mac_chart(
     result: &UpdateResult,
     meas: Option<&MeasuredDofs>,
-    initial: &ModelView,
-    updated: &ModelView,
-    first_pairs: &[Option<ModePair>],
-    last_pairs: &[Option<ModePair>],
+    models: [(&ModelView, &MacMatrix); 2],
+    pairs: [&[Option<ModePair>]; 2],
 ) -> MacChart {
+    let source = result.pairing_shapes.source;
     let mut c = MacChart {
-        title: "MAC of the test's operating deflection shapes (ODS) vs FE modes".into(),
+        title: format!("MAC of the test's {} vs FE modes", source.name()),
         subtitle: Some(format!(
-            "ODS = measured FRFs at each resonance line; outlined: the frequency table's pairs (made with the {})",
-            super::prose::pairing_shapes(result)
+            "the shapes that paired the resonances; outlined: the pairs of the frequency table (same MAC, same {})",
+            source.name()
         )),
         row_labels: result
             .resonances
@@ -368,26 +401,18 @@ fn mac_chart(
             .collect(),
         row_axis: "test resonance (Hz)".into(),
         column_axis: "FE mode (Hz)".into(),
+        scale_label: format!("MAC of the {} (dimensionless)", source.short_name()),
         panels: Vec::new(),
     };
     let Some(meas) = meas else {
         return c;
     };
-    let ods: Vec<Vec<f64>> = result
-        .resonances
+    c.panels = ["initial model", "updated model"]
         .iter()
-        .map(|r| {
-            if r.line < meas.lines_hz.len() {
-                meas.deflection_shape(r.line)
-            } else {
-                vec![f64::NAN; meas.len()]
-            }
-        })
+        .zip(models)
+        .zip(pairs)
+        .map(|((label, (view, mac)), pairs)| mac_panel(label, view, mac, &meas.lines_hz, pairs))
         .collect();
-    c.panels = vec![
-        mac_panel("initial model", initial, &ods, &meas.lines_hz, first_pairs),
-        mac_panel("updated model", updated, &ods, &meas.lines_hz, last_pairs),
-    ];
     c
 }
 

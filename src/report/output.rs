@@ -15,7 +15,7 @@ use frfup_parsers::deck::{self, Deck};
 use serde_json::{json, Map, Value};
 
 use super::tables::csv_text;
-use crate::fsio::{csv_number, write_atomic};
+use crate::fsio::{csv_number, csv_number_sig, write_atomic};
 use crate::model;
 use crate::updating::{IterationRecord, UpdateResult};
 
@@ -208,6 +208,43 @@ pub fn report_json(result: &UpdateResult) -> Value {
     })
 }
 
+/// The keys of `report.json` that `--json` prints on stdout (all but the
+/// per-iteration history, the resonance list and the echo of the inputs).
+pub const SUMMARY_KEYS: [&str; 11] = [
+    "converged",
+    "stop",
+    "method",
+    "layout",
+    "parameter_estimates",
+    "estimate",
+    "final_iteration",
+    "parameter_order",
+    "parameters",
+    "frequencies",
+    "warnings",
+];
+
+/// The summary of `frfup update --json`: [`SUMMARY_KEYS`] of
+/// [`report_json`], the same values `report.json` holds, plus the initial
+/// and final SFDAC (`sfdac_mean`, `sfdac_min`: first and last iteration).
+pub fn summary_json(result: &UpdateResult) -> Value {
+    let full = report_json(result);
+    let mut m: Map<String, Value> = SUMMARY_KEYS
+        .iter()
+        .filter_map(|k| full.get(*k).map(|v| (k.to_string(), v.clone())))
+        .collect();
+    let (first, last) = (&result.iterations[0], result.final_record());
+    m.insert(
+        "sfdac_mean".into(),
+        json!({"initial": first.sfdac.mean, "updated": last.sfdac.mean}),
+    );
+    m.insert(
+        "sfdac_min".into(),
+        json!({"initial": first.sfdac.min, "updated": last.sfdac.min}),
+    );
+    Value::Object(m)
+}
+
 /// `parameters.csv`: iteration, p̄ per parameter, SFDAC mean and min.
 pub fn parameters_csv(result: &UpdateResult) -> String {
     let header = std::iter::once("iteration".to_string())
@@ -215,7 +252,7 @@ pub fn parameters_csv(result: &UpdateResult) -> String {
         .chain(["sfdac_mean".into(), "sfdac_min".into()]);
     let rows = result.iterations.iter().map(|r| {
         std::iter::once(r.index.to_string())
-            .chain(r.parameters.iter().map(|p| format!("{p:.6e}")))
+            .chain(r.parameters.iter().map(|p| csv_number_sig(*p, 7)))
             .chain([
                 format!("{:.6}", r.sfdac.mean),
                 format!("{:.6}", r.sfdac.min),

@@ -5,7 +5,7 @@
 use super::html::esc;
 use super::output::{frequency_rows, mean_abs_dev};
 use crate::updating::fullband::estimate::FullBandEstimate;
-use crate::updating::{ResonanceMethod, UpdateResult};
+use crate::updating::{ShapeSource, UpdateResult};
 
 /// A piece of a sentence.
 #[derive(Clone, Debug, PartialEq)]
@@ -131,41 +131,34 @@ pub fn no_priors() -> Prose {
         .text("): defaults apply.")
 }
 
-/// The test shapes that paired test resonances with FE modes (the MAC of
-/// the frequency table).
+/// The test shapes that paired test resonances with FE modes: the MAC of
+/// the frequency table and of the MAC chart.
 pub fn pairing_shapes(result: &UpdateResult) -> &'static str {
-    match result.options.resonance_method {
-        ResonanceMethod::ModalFit => "fitted mode shapes",
-        ResonanceMethod::PeakPicking => "operating deflection shapes",
-    }
+    result.pairing_shapes.source.name()
 }
 
 /// What the MAC of the frequency table and of the MAC chart are computed
-/// from: they differ when the resonances come from the pole fit.
+/// from: one source, the shapes that paired the resonances.
 pub fn mac_sources(result: &UpdateResult) -> Prose {
     let p = Prose::default()
-        .text("MAC in the frequency table: ")
+        .text("MAC (frequency table and MAC chart): ")
         .strong(format!("MAC of the {}", pairing_shapes(result)));
-    let p = match result.options.resonance_method {
-        ResonanceMethod::ModalFit => p.text(
-            " (from the pole fit common to all channels; the peaks' deflection shapes where no pole fits), which paired each test resonance with an FE mode.",
+    let p = match result.pairing_shapes.source {
+        ShapeSource::Fitted => p.text(
+            " (from the pole fit common to all channels; the peaks' deflection shapes where no pole fits)",
         ),
-        ResonanceMethod::PeakPicking => p.text(
-            " (the measured FRFs at each resonance line), which paired each test resonance with an FE mode.",
-        ),
+        ShapeSource::OperatingDeflection => p.text(" (the measured FRFs at each resonance line)"),
     };
-    p.text(" MAC chart: ")
-        .strong("MAC of the operating deflection shapes")
-        .text(
-            " (the measured FRFs at each resonance line) against every FE mode; its outlined cells are the table's pairs. Deflection shapes mix neighbouring modes, so their MAC can be low where the fitted shapes pair well.",
-        )
+    p.text(
+        " against the FE modes; these shapes paired each test resonance with an FE mode, and the chart's outlined cells are the table's pairs.",
+    )
 }
 
-/// The column name of the pairing MAC: "MAC (fitted shapes)".
+/// The column name of the pairing MAC: "MAC (fitted shapes)" or "MAC (ODS)".
 pub fn pairing_mac_header(result: &UpdateResult) -> &'static str {
-    match result.options.resonance_method {
-        ResonanceMethod::ModalFit => "MAC (fitted shapes)",
-        ResonanceMethod::PeakPicking => "MAC (ODS)",
+    match result.pairing_shapes.source {
+        ShapeSource::Fitted => "MAC (fitted shapes)",
+        ShapeSource::OperatingDeflection => "MAC (ODS)",
     }
 }
 

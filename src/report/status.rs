@@ -68,7 +68,8 @@ pub fn not_converged_reason(result: &UpdateResult) -> String {
 #[derive(Clone, Debug, PartialEq)]
 pub struct EstimateRow {
     pub name: String,
-    /// p̄, 4 decimals.
+    /// p̄, 4 decimals; "not identified" when the data do not determine it
+    /// (its value is then the deck's, not an estimate).
     pub value: String,
     /// "± 0.0123" (one standard deviation), or "–".
     pub sd: String,
@@ -106,7 +107,11 @@ pub fn estimate_rows(est: &FullBandEstimate, deck: &Deck) -> Vec<EstimateRow> {
         .iter()
         .map(|p| EstimateRow {
             name: p.name.clone(),
-            value: num(p.value),
+            value: if p.identified {
+                num(p.value)
+            } else {
+                "not identified".into()
+            },
             sd: if p.sd.is_finite() {
                 format!("± {}", num(p.sd))
             } else {

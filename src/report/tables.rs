@@ -5,8 +5,9 @@
 //! * `iterations.csv`: rank, step scale and the step p^n of every iteration;
 //! * `resonances.csv`: the measured resonances (peak picking);
 //! * `updating-frequencies.csv`: the updating frequencies used and skipped;
-//! * `mac.csv`: the MAC matrices of the MAC chart (long format): the test's
-//!   operating deflection shapes against the FE modes, hence `mac_ods`;
+//! * `mac.csv`: the MAC matrices of the MAC chart (long format): the test
+//!   shapes that paired the resonances (`test_shapes`: `fitted` or `ods`)
+//!   against the FE modes;
 //! * `frf.csv`: measured, initial and updated FRFs (long format).
 
 use super::data::ReportData;
@@ -22,15 +23,10 @@ fn num(v: f64, fmt: fn(f64) -> String) -> String {
     }
 }
 
-/// Seven significant digits in `e` notation (`1.234568e-5`); zero is `0`.
+/// Seven significant digits by the CSV rule of [`crate::fsio::csv_number`]:
+/// plain decimal for 1e-4 ≤ |x| < 1e6, else `1.234568e-5`; zero is `0`.
 fn e6(v: f64) -> String {
-    num(v, |x| {
-        if x == 0.0 {
-            "0".into()
-        } else {
-            format!("{x:.6e}")
-        }
-    })
+    crate::fsio::csv_number_sig(v, 7)
 }
 
 fn f6(v: f64) -> String {
@@ -151,8 +147,12 @@ pub fn updating_frequencies_csv(result: &UpdateResult) -> String {
 /// `mac.csv`.
 pub fn mac_csv(data: &ReportData) -> String {
     let mut rows = vec![header(
-        "model,test_resonance,test_label,fe_mode_hz,mac_ods,paired",
+        "model,test_resonance,test_label,fe_mode_hz,mac,paired,test_shapes",
     )];
+    let shapes = match data.mac_source {
+        crate::updating::ShapeSource::Fitted => "fitted",
+        crate::updating::ShapeSource::OperatingDeflection => "ods",
+    };
     for p in &data.mac.panels {
         for (t, row) in p.values.iter().enumerate() {
             for (c, v) in row.iter().enumerate() {
@@ -163,6 +163,7 @@ pub fn mac_csv(data: &ReportData) -> String {
                     p.column_labels.get(c).cloned().unwrap_or_default(),
                     f6(*v),
                     p.pairs.contains(&(t, c)).to_string(),
+                    shapes.to_string(),
                 ]);
             }
         }
@@ -210,7 +211,8 @@ mod tests {
         assert_eq!(e6(f64::NAN), "");
         assert_eq!(e6(-0.0), "0");
         assert_eq!(e6(0.0), "0");
-        assert_eq!(e6(-1.5e-5), "-1.500000e-5");
+        assert_eq!(e6(-1.5e-5), "-1.5e-5");
+        assert_eq!(e6(0.01979010), "0.0197901");
         assert_eq!(f6(-0.0), "0.000000");
         assert_eq!(f6(1.5), "1.500000");
     }

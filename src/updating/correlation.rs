@@ -59,6 +59,76 @@ pub fn mac(x: &[f64], y: &[f64]) -> f64 {
     signed_cos2(x, y).abs()
 }
 
+/// Where the test's mode shapes come from: what the MAC compares with the
+/// FE modes, for pairing and in the report alike.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ShapeSource {
+    /// The multi-channel pole fit's residues (its deflection shape at the
+    /// peak where no pole fits).
+    Fitted,
+    /// Operating deflection shapes: the measured FRFs at each resonance line.
+    #[default]
+    OperatingDeflection,
+}
+
+impl ShapeSource {
+    /// "fitted mode shapes" or "operating deflection shapes (ODS)".
+    pub fn name(self) -> &'static str {
+        match self {
+            ShapeSource::Fitted => "fitted mode shapes",
+            ShapeSource::OperatingDeflection => "operating deflection shapes (ODS)",
+        }
+    }
+
+    /// "fitted shapes" or "ODS", for labels with little room.
+    pub fn short_name(self) -> &'static str {
+        match self {
+            ShapeSource::Fitted => "fitted shapes",
+            ShapeSource::OperatingDeflection => "ODS",
+        }
+    }
+}
+
+/// The test's shape of each resonance at the measured DOFs, [resonance][DOF],
+/// and where they come from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TestShapes {
+    pub source: ShapeSource,
+    pub shapes: Vec<Vec<f64>>,
+}
+
+/// MAC of the test shapes against FE modes, [test resonance][FE mode]
+/// (NaN where a shape is missing), and the shapes' source.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MacMatrix {
+    pub source: ShapeSource,
+    pub values: Vec<Vec<f64>>,
+}
+
+/// The MAC of every test shape against every FE mode shape (both at the
+/// measured DOFs, in the same order).
+pub fn mac_matrix(test: &TestShapes, fe_shapes: &[Vec<f64>]) -> MacMatrix {
+    MacMatrix {
+        source: test.source,
+        values: test
+            .shapes
+            .iter()
+            .map(|t| {
+                fe_shapes
+                    .iter()
+                    .map(|f| {
+                        if t.len() == f.len() {
+                            mac(t, f)
+                        } else {
+                            f64::NAN
+                        }
+                    })
+                    .collect()
+            })
+            .collect(),
+    }
+}
+
 /// A test resonance paired with an FE mode.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModePair {

@@ -28,7 +28,9 @@ use std::fmt;
 use crate::model::{ModelError, ParameterValues};
 use crate::solvers::eigen::EigenError;
 
-pub use correlation::{fdac_matrix, mac, sfdac, ModePair, SfdacSummary};
+pub use correlation::{
+    fdac_matrix, mac, mac_matrix, sfdac, MacMatrix, ModePair, SfdacSummary, ShapeSource, TestShapes,
+};
 pub use frequencies::{Resonance, SkippedFrequency, UpdatingFrequencies, UpdatingFrequency};
 pub use iterate::{update, update_model, update_with_progress};
 pub use options::{
@@ -335,6 +337,22 @@ pub struct IterationRecord {
     pub basis_modes: Vec<usize>,
     /// Test resonance → FE mode pairs (MAC on the measured DOFs).
     pub pairs: Vec<Option<ModePair>>,
+    /// Which equations produced the step p^n.
+    pub stage: IterationStage,
+}
+
+/// Which equations produced an iteration's step: the convergence chart
+/// marks where they change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IterationStage {
+    /// Iteration 0, the initial model: no step.
+    Initial,
+    /// The frequencies-first stage: natural-frequency equations alone (Eq. 16–22).
+    Frequencies,
+    /// FRF equations at the updating frequencies (Eq. 11–12, solved by Eq. 35–41).
+    Frf,
+    /// The full-band estimate (the robust pipeline's last record).
+    Estimate,
 }
 
 /// The outcome of an update.
@@ -366,6 +384,9 @@ pub struct UpdateResult {
     pub options: UpdateOptions,
     /// What the campaign measured (a column, a row used by reciprocity, …).
     pub layout: crate::testdata::layout::Layout,
+    /// The test shapes that paired resonances with FE modes (the MAC of
+    /// `pairs`), and where they come from.
+    pub pairing_shapes: TestShapes,
     /// The full-band estimate ([`UpdateMethod::Robust`]), whose parameters
     /// are those of the final record.
     pub estimate: Option<fullband::estimate::FullBandEstimate>,

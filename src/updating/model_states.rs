@@ -13,7 +13,7 @@ use frfup_parsers::deck::Deck;
 use num_complex::Complex64;
 
 use super::measured::MeasuredDofs;
-use super::{ModePair, UpdateResult};
+use super::{mac_matrix, MacMatrix, ModePair, UpdateResult};
 use crate::model::{self, Damping, FeModel, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use crate::solvers::frf;
@@ -53,6 +53,11 @@ pub struct ModelStates {
     /// Test–FE pairs of the first and of the returned iteration.
     pub first_pairs: Vec<Option<ModePair>>,
     pub last_pairs: Vec<Option<ModePair>>,
+    /// MAC of the test shapes that made the pairs (`UpdateResult::
+    /// pairing_shapes`) against every computed mode of the initial and of
+    /// the updated model: the pairs' MAC are entries of these.
+    pub mac_initial: MacMatrix,
+    pub mac_updated: MacMatrix,
     /// What could not be evaluated, and why.
     pub notes: Vec<String>,
 }
@@ -133,6 +138,8 @@ pub fn model_states(result: &UpdateResult, deck: &Deck, test: &MeasuredFrfs) -> 
         measured: meas,
         model_dofs,
         damping: choice,
+        mac_initial: mac_matrix(&result.pairing_shapes, &initial.shapes),
+        mac_updated: mac_matrix(&result.pairing_shapes, &updated.shapes),
         initial,
         updated,
         first_pairs,

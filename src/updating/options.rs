@@ -323,57 +323,81 @@ pub fn finite_key<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Err
 #[derive(clap::Args, Clone, Debug, Default, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 pub struct UpdateSettings {
-    /// Pipeline: `robust` (default of update: fitted resonances, frequencies
-    /// first, damped steps, then a full-band estimate with uncertainties) or
-    /// `paper` (Yan & Golinval's iteration exactly, with the paper's values).
+    /// Which pipeline runs: `robust` (update's default: resonances fitted,
+    /// frequencies brought close first, damped steps, then a full-band
+    /// estimate with an uncertainty per parameter) or `paper` (Yan &
+    /// Golinval's iteration exactly, with the paper's values [Eq. 26-29, 49]).
+    /// Any option below overrides the chosen method's value.
     #[arg(long, value_enum)]
     pub method: Option<UpdateMethod>,
-    /// Modes N_md in the SEREP basis (default: min(N_ex, max(2R, R + 4))).
+    /// How many FE modes the reduced model is built from (N_md, the SEREP
+    /// basis [Eq. 32-34]); more modes describe the FRFs between resonances
+    /// better but need more measured DOFs (default: min(measured DOFs,
+    /// max(2R, R + 4)), R = --resonances).
     #[arg(long)]
     pub modes: Option<usize>,
-    /// Measured resonances R used for the updating frequencies (default: up to 8).
+    /// How many of the test's resonances (R, lowest first) place updating
+    /// frequencies and take part in the fit [Eq. 42] (default: those found,
+    /// at most 8).
     #[arg(long)]
     pub resonances: Option<usize>,
-    /// Updating frequencies at (1 ± C)·f_r around each resonance [Eq. 42]
-    /// (default: 0.05 robust, 0.08 paper).
+    /// Where the FRFs are compared: two frequencies beside each resonance
+    /// f_r, at (1 - C)·f_r and (1 + C)·f_r, so 0.08 compares them 8 % below
+    /// and above each peak [Eq. 42]; too small sits on the peak where damping
+    /// dominates, too large sees little of the mode (default: 0.05 robust,
+    /// 0.08 paper).
     #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     #[serde(default, deserialize_with = "finite_key")]
     pub offset: Option<f64>,
-    /// Explicit updating frequencies in Hz (F1,F2,...) instead of Eq. 42.
+    /// Compare the FRFs at these frequencies (Hz, F1,F2,...) instead of
+    /// beside each resonance [replaces Eq. 42; the paper's Table 3].
     #[arg(long, value_name = "F1,F2,...", allow_hyphen_values = true)]
     pub freqs: Option<Frequencies>,
-    /// Add the natural-frequency equations [Eq. 16-22].
+    /// Also fit the natural frequencies of the paired modes, not only the
+    /// FRFs [Eq. 16-22].
     #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
     pub with_frequencies: Option<bool>,
-    /// First bring the paired resonances within 1 % by the natural-frequency
-    /// equations alone, then update from FRFs (default with --method robust).
+    /// When the model's resonances are far from the test's: first move them
+    /// within 1 % using the natural frequencies alone [Eq. 16-22], then
+    /// update from the FRFs (default: on with robust, off with paper).
     #[arg(long, num_args = 0..=1, require_equals = true, default_missing_value = "true")]
     pub frequencies_first: Option<bool>,
-    /// How the test's resonances and their shapes are found (default: fit
-    /// robust, peaks paper).
+    /// How the test's resonances and their shapes are found: `fit` (a pole
+    /// fit common to all channels, finds weak and close modes) or `peaks`
+    /// (peak picking, the paper's way) (default: fit robust, peaks paper).
     #[arg(long, value_enum)]
     pub resonance_method: Option<ResonanceMethod>,
-    /// How the reduced dynamic stiffness is inverted [§3.3-3.4] (default: svd).
+    /// How the reduced model's dynamic stiffness is inverted when it is
+    /// nearly singular: `svd` (truncated at N_md) or `perturb` (a small value
+    /// added to its diagonal) [§3.3-3.4] (default: svd).
     #[arg(long, value_enum)]
     pub inverse: Option<InverseChoice>,
-    /// Relative diagonal perturbation for --inverse perturb (default: 1e-8).
+    /// With --inverse perturb: the value added to the diagonal, relative to
+    /// its largest entry (default: 1e-8).
     #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     #[serde(default, deserialize_with = "finite_key")]
     pub perturbation: Option<f64>,
-    /// SVD gap rule: keep singular values until sigma_{r+1}/sigma_r < E [Eq. 40].
+    /// Which directions each step may move the parameters in: singular
+    /// values are kept until one falls below E times the one before it, so
+    /// a smaller E keeps more, less well determined, directions [Eq. 40]
+    /// (default: 1e-4).
     #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     #[serde(default, deserialize_with = "finite_key")]
     pub svd_eps: Option<f64>,
-    /// Tikhonov damping of each FRF step, relative to the largest singular
-    /// value (default: 0.05 robust, 0 paper = the plain SVD solution).
+    /// Damps each step: 0 takes the full least-squares step [Eq. 35-41];
+    /// larger values shorten the steps along directions the data barely
+    /// see, which noise otherwise blows up (relative to the largest singular
+    /// value; default: 0.05 robust, 0 paper).
     #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     #[serde(default, deserialize_with = "finite_key")]
     pub damping: Option<f64>,
-    /// Stop the iteration when max |p_j| < T [Eq. 49] (default 0.01).
+    /// Stop when no parameter changes by more than T (relative) in a step,
+    /// so 0.01 stops below 1 % [Eq. 49] (default: 0.01).
     #[arg(long, allow_negative_numbers = true, value_parser = finite)]
     #[serde(default, deserialize_with = "finite_key")]
     pub tol: Option<f64>,
-    /// Iteration limit of the paper's iteration (default 20).
+    /// At most this many updating steps (the paper's iteration, and the
+    /// first stage of robust) (default: 20).
     #[arg(long)]
     pub max_iter: Option<usize>,
 }

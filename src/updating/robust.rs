@@ -18,8 +18,8 @@ use super::fullband::data::TestData;
 use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate};
 use super::iterate::update_model;
 use super::{
-    IterationRecord, StopReason, UpdateError, UpdateMethod, UpdateOptions, UpdateResult,
-    UpdateWarning,
+    IterationRecord, IterationStage, StopReason, UpdateError, UpdateMethod, UpdateOptions,
+    UpdateResult, UpdateWarning,
 };
 use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
@@ -137,6 +137,7 @@ fn append_final(
         .zip(prev)
         .map(|(f, p)| (f - p) / (1.0 + p))
         .collect();
+    record.stage = IterationStage::Estimate;
     result.iterations.push(record);
     result.final_iteration = result.iterations.len() - 1;
     result.fdac_final = fdac;

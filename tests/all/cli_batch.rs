@@ -111,6 +111,23 @@ fn a_campaign_runs_every_case_and_reports_each() {
     assert!(std::fs::read_to_string(out_dir.join("summary.md"))
         .unwrap()
         .contains("| good | passed |"));
+    // summary.html: the per-case reports' colours and words, failure in red.
+    let html = std::fs::read_to_string(out_dir.join("summary.html")).unwrap();
+    assert!(html.contains("class=\"status fail\""), "{html}");
+    for (case, class, word) in [
+        ("<a href=\"good/report.html\">good</a>", "ok", "✔ passed"),
+        ("<a href=\"strict/report.html\">strict</a>", "fail", "✘ "),
+        ("missing", "fail", "✘ ERROR — "),
+    ] {
+        let row = html
+            .lines()
+            .find(|l| l.starts_with(&format!("<tr><td class=\"l\">{case}</td>")))
+            .unwrap_or_else(|| panic!("{case}: no row in\n{html}"));
+        assert!(
+            row.contains(&format!("<span class=\"status {class}\">{word}")),
+            "{row}"
+        );
+    }
 }
 
 #[test]
@@ -243,6 +260,12 @@ fn a_case_that_does_not_converge_is_its_own_failure() {
     assert_eq!(summary["totals"]["failed"], 1);
     let md = std::fs::read_to_string(out_dir.join("summary.md")).unwrap();
     assert!(md.contains("| garteur | not-converged |"), "{md}");
+    // As the per-case report says it: red, in capitals.
+    let html = std::fs::read_to_string(out_dir.join("summary.html")).unwrap();
+    assert!(
+        html.contains("<span class=\"status fail\">✘ NOT CONVERGED — "),
+        "{html}"
+    );
     assert!(md.contains("0 passed, 1 not converged"), "{md}");
     let csv = std::fs::read_to_string(out_dir.join("summary.csv")).unwrap();
     assert!(

@@ -16,6 +16,7 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    readme_quotes_the_demo(&String::from_utf8_lossy(&out.stdout));
     for f in [
         "input/garteur.deck",
         "input/campaign.uff",
@@ -113,9 +114,82 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
         }
     }
     assert_eq!(unidentified, ["rroot_J", "lroot_J"]);
+    reports_say_not_identified(&out_dir, &unidentified);
     assert_eq!(report["converged"], true);
     assert_eq!(report["method"], "robust");
     // the updated deck is a valid deck
     let deck = std::fs::read_to_string(out_dir.join("updated.deck")).unwrap();
     frfup_parsers::deck::parse(&deck).expect("updated.deck parses");
+}
+
+/// The reports say "not identified" in words, not as a value 0.0000: the
+/// estimate table of report.html and report.md, the convergence chart's
+/// panel titles; the chart also marks where the frequencies-first stage
+/// hands over to the FRF equations.
+fn reports_say_not_identified(out_dir: &std::path::Path, unidentified: &[String]) {
+    let html = std::fs::read_to_string(out_dir.join("report.html")).unwrap();
+    let md = std::fs::read_to_string(out_dir.join("report.md")).unwrap();
+    let svg = std::fs::read_to_string(out_dir.join("convergence.svg")).unwrap();
+    for name in unidentified {
+        assert!(
+            html.contains(&format!(
+                "<td class=\"l\">{name}</td><td>not identified</td>"
+            )),
+            "{name} in report.html"
+        );
+        assert!(
+            md.contains(&format!("| {name} | not identified |")),
+            "{name} in report.md"
+        );
+        assert!(
+            svg.contains(&format!("{name}: not identified")),
+            "{name} in convergence.svg"
+        );
+    }
+    // The convergence chart marks where the frequencies-first stage hands
+    // over to the FRF equations (the first FRF step's record).
+    assert!(
+        svg.contains("FRF stage after frequencies first from iteration"),
+        "no handover mark in convergence.svg"
+    );
+}
+
+/// The README's demo figures are the ones `frfup demo` prints: SFDAC mean
+/// and mean |df/f| before → after, the fit's noise ratio and finjoint_J.
+fn readme_quotes_the_demo(stdout: &str) {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let readme = readme.split_whitespace().collect::<Vec<_>>().join(" ");
+    let line = |start: &str| {
+        stdout
+            .lines()
+            .find(|l| l.trim_start().starts_with(start) || l.contains(start))
+            .unwrap_or_else(|| panic!("{start:?} not printed:\n{stdout}"))
+            .to_string()
+    };
+    let summary = line("SFDAC mean");
+    let between = |text: &str, a: &str, b: &str| -> String {
+        let from = text.find(a).unwrap() + a.len();
+        text[from..].split(b).next().unwrap().trim().to_string()
+    };
+    let sfdac = between(&summary, "SFDAC mean ", ",").replace("->", "→");
+    let df = between(&summary, "mean |df/f| ", "\n").replace("->", "→");
+    let fit = between(
+        &line("full-band fit at"),
+        "full-band fit at ",
+        "x the noise",
+    );
+    let fj = line("finjoint_J");
+    let fj: Vec<&str> = fj.split_whitespace().collect();
+    for quoted in [
+        format!("SFDAC mean {sfdac}"),
+        format!("mean |df/f| {df}"),
+        format!("fit at {fit}× the noise level"),
+        format!("finjoint_J ({} ± {}", fj[1], fj[3]),
+    ] {
+        assert!(
+            readme.contains(&quoted),
+            "README does not quote the demo: {quoted:?}"
+        );
+    }
 }

@@ -368,8 +368,10 @@ fn info_json_key_set_is_exact() {
         "reference",
         "response_entity",
         "reference_entity",
+        // which file the record comes from (info takes several)
+        "file",
     ]);
-    let other = sorted(&["index", "dataset", "line", "summary"]);
+    let other = sorted(&["index", "dataset", "line", "summary", "file"]);
     for (i, r) in records.iter().enumerate() {
         assert_eq!(r["index"], i as i64 + 1);
         let expected = if r["dataset"] == 58 {
@@ -438,7 +440,15 @@ fn convert_displacement_real_csv_has_one_column_per_channel() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("0 Hz line is set to 0"));
     let text = std::fs::read_to_string(&out_path).unwrap();
     let rows: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows[0], ["frequency_hz", "1+x/1+x", "1+x/2+x", "1+x/3+x"]);
+    assert_eq!(
+        rows[0],
+        [
+            "frequency_hz",
+            "1+x/1+x[m/N]",
+            "1+x/2+x[m/N]",
+            "1+x/3+x[m/N]"
+        ]
+    );
     assert_eq!(rows.len(), 1 + 1001);
     let file = frfup_parsers::uff::parse(&std::fs::read(&input).unwrap()).unwrap();
     for (c, d) in file.datasets.iter().enumerate() {

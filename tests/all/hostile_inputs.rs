@@ -393,7 +393,7 @@ fn channels_named_by_entities_show_their_names_and_map_to_nodes() {
     assert_eq!(o.code, 0, "{}", o.stderr);
     let csv = std::fs::read_to_string(&out).unwrap();
     assert!(
-        csv.starts_with("frequency_hz,.1.Z-/.56.Z re,.1.Z-/.56.Z im\n"),
+        csv.starts_with("frequency_hz,.1.Z-/.56.Z re[(m/s)/N],.1.Z-/.56.Z im[(m/s)/N]\n"),
         "{}",
         &csv[..80]
     );

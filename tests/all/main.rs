@@ -5,13 +5,20 @@
 
 mod campaign_doc;
 mod campaign_support;
+mod cli_support;
 mod model_common;
 mod png_support;
 mod solvers_support;
 
 mod cli_batch;
+mod cli_csv;
 mod cli_demo;
+mod cli_files;
+mod cli_help;
+mod cli_json;
+mod cli_mac;
 mod cli_model;
+mod cli_progress;
 mod cli_uff;
 mod diagnose_cases;
 mod hostile_inputs;

@@ -45,6 +45,9 @@ pub struct ConvergenceChart {
     pub selected: Option<usize>,
     /// Where the method changes stage.
     pub stages: Vec<StageMark>,
+    /// Per parameter: the data did not identify it (its returned value is
+    /// the deck's, titled "not identified" instead of a number).
+    pub not_identified: Vec<bool>,
 }
 
 const WIDTH: u32 = 960;
@@ -326,10 +329,13 @@ fn small_panel(
 ) -> Result<(), ChartError> {
     let pts = parameter_points(c, x, j);
     let last = c.selected.and_then(|s| pts.get(s)).map(|p| p.1);
-    let value = last
-        .filter(|v| v.is_finite())
-        .map(|v| format!(" = {}", super::fmt_fixed(v, 4)))
-        .unwrap_or_default();
+    let value = if c.not_identified.get(j).copied().unwrap_or(false) {
+        ": not identified".to_string()
+    } else {
+        last.filter(|v| v.is_finite())
+            .map(|v| format!(" = {}", super::fmt_fixed(v, 4)))
+            .unwrap_or_default()
+    };
     let (w, _) = cell.dim_in_pixel();
     let title = super::abbreviate(
         &format!("{}{value}", c.parameter_names[j]),
@@ -479,6 +485,7 @@ mod tests {
                 at: 3,
                 label: "full-band estimate".into(),
             }],
+            not_identified: vec![false, false, true],
         }
     }
 

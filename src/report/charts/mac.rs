@@ -1,5 +1,5 @@
-//! `mac.svg`: MAC matrices (test resonances' operating deflection shapes vs FE
-//! modes) as heat maps, one panel per model, with a shared colour scale;
+//! `mac.svg`: MAC matrices (the test shapes that paired the resonances, as the
+//! title names them, vs FE modes) as heat maps, one panel per model, with a shared colour scale;
 //! paired cells are outlined.
 
 use plotters::prelude::*;
@@ -35,6 +35,9 @@ pub struct MacChart {
     pub row_axis: String,
     /// Description of the columns, e.g. "FE mode (Hz)".
     pub column_axis: String,
+    /// The colour scale's label, naming the test shapes, e.g. "MAC of the
+    /// fitted mode shapes (dimensionless)".
+    pub scale_label: String,
     pub panels: Vec<MacPanel>,
 }
 
@@ -138,7 +141,13 @@ pub fn render(c: &MacChart) -> Result<String, ChartError> {
         for (k, p) in c.panels.iter().enumerate() {
             draw_panel(root, c, p, &g, 10 + k as i32 * g.panel_w, grid_top)?;
         }
-        draw_color_bar(root, WIDTH as i32 - BAR_W + 10, grid_top, grid_h.max(120))?;
+        draw_color_bar(
+            root,
+            &c.scale_label,
+            WIDTH as i32 - BAR_W + 10,
+            grid_top,
+            grid_h.max(120),
+        )?;
         Ok(())
     })
 }
@@ -249,7 +258,7 @@ fn draw_panel(
     Ok(())
 }
 
-fn draw_color_bar(root: &Area, x: i32, y0: i32, h: i32) -> Result<(), ChartError> {
+fn draw_color_bar(root: &Area, label: &str, x: i32, y0: i32, h: i32) -> Result<(), ChartError> {
     let w = 18;
     let steps = 50;
     for i in 0..steps {
@@ -279,7 +288,7 @@ fn draw_color_bar(root: &Area, x: i32, y0: i32, h: i32) -> Result<(), ChartError
         )?;
     }
     root.draw_text(
-        "MAC of the ODS (dimensionless)",
+        label,
         &font(13.0)
             .transform(FontTransform::Rotate270)
             .pos(Pos::new(HPos::Center, VPos::Top)),
@@ -325,6 +334,7 @@ mod tests {
                 .collect(),
             row_axis: "test resonance (Hz)".into(),
             column_axis: "FE mode (Hz)".into(),
+            scale_label: "MAC of the ODS (dimensionless)".into(),
             panels: vec![panel("initial model", 0), panel("updated model", 1)],
         }
     }

@@ -84,7 +84,7 @@ fn append_shape_rows(rows: &mut (Mat<f64>, Vec<f64>), it: &Iterate, problem: &Pr
         let r = p.fe;
         let lam = modes.omega2[r];
         let phi: Vec<f64> = equations.iter().map(|&i| modes.shapes[(i, r)]).collect();
-        let test = &problem.test_shapes[t];
+        let test = &problem.test_shapes.shapes[t];
         let tt: f64 = test.iter().map(|x| x * x).sum();
         let nphi = phi.iter().map(|x| x * x).sum::<f64>().sqrt();
         if !(tt > 0.0 && nphi > 0.0) || test.len() != phi.len() {

@@ -13,7 +13,9 @@ use crate::updating::frequencies::{
 use crate::updating::identify::{identify_modes, IdentifyOptions};
 use crate::updating::measured::MeasuredDofs;
 use crate::updating::serep::InverseMethod;
-use crate::updating::{ResonanceMethod, UpdateError, UpdateOptions, UpdateWarning};
+use crate::updating::{
+    ResonanceMethod, ShapeSource, TestShapes, UpdateError, UpdateOptions, UpdateWarning,
+};
 
 /// The test's resonances as found (before suspension modes are left out)
 /// and, from the modal fit, their mode shapes at the measured DOFs (`None`:
@@ -40,7 +42,7 @@ pub(super) struct Problem {
     pub h_test: Vec<Vec<f64>>,
     /// Test mode shapes at the measured DOFs (fitted, else the operating
     /// deflection shapes at the peaks) and their frequencies (Hz), for pairing.
-    pub test_shapes: Vec<Vec<f64>>,
+    pub test_shapes: TestShapes,
     pub test_hz: Vec<f64>,
     /// The resonances as found, for [`crate::updating::UpdateResult::test_resonances`].
     pub found: MeasuredResonances,
@@ -98,12 +100,18 @@ pub(super) fn prepare(
         .iter()
         .map(|u| meas.at_line(u.line))
         .collect();
-    let test_shapes: Vec<Vec<f64>> = match fitted_shapes {
-        Some(shapes) => shapes,
-        None => peaks
-            .iter()
-            .map(|r| meas.deflection_shape(r.line))
-            .collect(),
+    let test_shapes = match fitted_shapes {
+        Some(shapes) => TestShapes {
+            source: ShapeSource::Fitted,
+            shapes,
+        },
+        None => TestShapes {
+            source: ShapeSource::OperatingDeflection,
+            shapes: peaks
+                .iter()
+                .map(|r| meas.deflection_shape(r.line))
+                .collect(),
+        },
     };
     let test_hz: Vec<f64> = peaks.iter().map(|r| r.frequency_hz).collect();
     let n_md = basis_size(

@@ -10,7 +10,9 @@ use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use crate::updating::correlation::{pair_modes, SfdacSummary};
 use crate::updating::sensitivity::{frf_equations, FrfEquations, ModalSensitivities};
 use crate::updating::serep::SerepBasis;
-use crate::updating::{IterationRecord, ModePair, UpdateError, UpdateOptions, UpdateWarning};
+use crate::updating::{
+    IterationRecord, IterationStage, ModePair, UpdateError, UpdateOptions, UpdateWarning,
+};
 
 /// The iteration's state between two passes.
 pub(super) struct IterationState {
@@ -119,7 +121,7 @@ impl IterationState {
         let sfdac = SfdacSummary::new(&eqs.fe_frf, &problem.h_test);
         let fe_shapes = modes.at(&meas.equations);
         let pairs = pair_modes(
-            &problem.test_shapes,
+            &problem.test_shapes.shapes,
             &problem.test_hz,
             &fe_shapes,
             &fe_hz,
@@ -146,6 +148,13 @@ impl IterationState {
             fe_frequencies_hz: fe_hz,
             basis_modes: basis.modes.clone(),
             pairs: pairs.clone(),
+            // The stage flag still says which equations gave p^n: it changes
+            // only after this evaluation.
+            stage: match (n, self.frequency_stage) {
+                (0, _) => IterationStage::Initial,
+                (_, true) => IterationStage::Frequencies,
+                (_, false) => IterationStage::Frf,
+            },
         };
         progress(&record);
         self.records.push(record);

@@ -114,6 +114,7 @@ impl IterationState {
             fdac_initial,
             fdac_final,
             test_resonances: problem.found,
+            pairing_shapes: problem.test_shapes,
             warnings: self.warnings,
             options: opts.clone(),
             layout,

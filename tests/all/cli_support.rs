@@ -1,0 +1,75 @@
+//! Helpers of the command-line tests: run the binary, name a fixture, a
+//! fresh folder per test, a small simulated campaign.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Run `frfup` with `args`, stderr not a terminal, `CI` set.
+pub fn frfup(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_frfup"))
+        .args(args)
+        .env("CI", "true")
+        .output()
+        .expect("run frfup")
+}
+
+/// Run `frfup` and insist on exit code 0.
+pub fn frfup_ok(args: &[&str]) -> std::process::Output {
+    let out = frfup(args);
+    assert!(
+        out.status.success(),
+        "frfup {args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// A checked-in fixture, as a string argument.
+pub fn fixture(rel: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures")
+        .join(rel)
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+/// A fresh, empty folder for one test.
+pub fn workdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("frfup-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The paper's cantilever with its p3 doubled, simulated in `dir`: returns
+/// (deck, test) paths; updating it converges in a few iterations.
+pub fn cantilever_case(dir: &Path) -> (String, String) {
+    let deck = dir.join("beam.deck");
+    std::fs::copy(fixture("paper/cantilever.deck"), &deck).unwrap();
+    let uff = dir.join("beam.uff");
+    let sensors: Vec<String> = (2..=16).map(|n| format!("{n}:+z")).collect();
+    frfup_ok(&[
+        "simulate",
+        deck.to_str().unwrap(),
+        "--input",
+        "16:+z",
+        "--band",
+        "0:300:1201",
+        "--sensors",
+        &sensors.join(","),
+        "--set",
+        "p3=1.0",
+        "--out",
+        uff.to_str().unwrap(),
+    ]);
+    (
+        deck.to_str().unwrap().to_string(),
+        uff.to_str().unwrap().to_string(),
+    )
+}
+
+/// A JSON file.
+pub fn read_json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
