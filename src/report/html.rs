@@ -440,14 +440,26 @@ fn model(
             None => ("–".into(), "–".into()),
         };
         let p = values.get(j).copied().unwrap_or(f64::NAN);
+        // A parameter the estimate could not determine keeps the deck's
+        // value: say so instead of showing 0 as if it were a finding.
+        let unidentified = result
+            .estimate
+            .as_ref()
+            .and_then(|e| e.parameters.iter().find(|q| &q.name == name))
+            .is_some_and(|q| !q.identified);
+        let (value, factor) = if unidentified {
+            ("not identified".to_string(), "1 (deck)".to_string())
+        } else {
+            (signed(p, 5), fx(1.0 + p, 4))
+        };
         row(
             s,
             &[
                 ("l", esc(name)),
                 ("l", esc(&qty)),
                 ("l", esc(&ids)),
-                ("", signed(p, 5)),
-                ("", fx(1.0 + p, 4)),
+                ("", value),
+                ("", factor),
             ],
         );
     }

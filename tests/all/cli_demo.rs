@@ -137,6 +137,15 @@ fn reports_say_not_identified(out_dir: &std::path::Path, unidentified: &[String]
             )),
             "{name} in report.html"
         );
+        // And in the model table (quantity, IDs, then the value).
+        let model_row = html
+            .split("<tr>")
+            .filter(|r| r.contains(&format!("<td class=\"l\">{name}</td><td class=\"l\">")))
+            .count();
+        assert!(
+            model_row == 1 && html.contains("<td>not identified</td><td>1 (deck)</td>"),
+            "{name} in report.html's model table"
+        );
         assert!(
             md.contains(&format!("| {name} | not identified |")),
             "{name} in report.md"
