@@ -15,6 +15,7 @@ mod cli_model;
 mod cli_uff;
 mod diagnose_cases;
 mod hostile_inputs;
+mod identification_closed_form;
 mod layering;
 mod model_closed_form;
 mod model_derivatives;
