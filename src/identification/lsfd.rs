@@ -11,7 +11,6 @@
 //! are the rows of one design matrix shared by all FRFs (the poles are
 //! common), so one QR factorisation solves every FRF.
 
-use faer::linalg::solvers::SolveLstsq;
 use faer::{c64, Mat};
 
 use super::prepare::Prepared;
@@ -34,6 +33,8 @@ pub struct FitMode {
     /// Per FRF (o, i) at o·m + i.
     pub residues: Vec<c64>,
     pub stable_orders: usize,
+    /// Indices of its cluster's poles in the diagram.
+    pub cluster: Vec<usize>,
     pub significance: f64,
 }
 
@@ -100,8 +101,10 @@ pub(super) fn rhs(data: &Prepared, lines: &[usize]) -> Mat<f64> {
     })
 }
 
-/// Least-squares coefficients of every column of `b` (columns of `a` scaled
-/// to unit norm for the factorisation).
+/// Least-squares coefficients of every column of `b`: minimum-norm solution
+/// by a thin SVD of `a` (columns scaled to unit norm), singular values below
+/// 10⁻¹² of the largest dropped, so that nearly dependent columns (residual
+/// terms over a narrow window) do not blow the residues up.
 pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
     let scale: Vec<f64> = a
         .col_iter()
@@ -115,7 +118,19 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
         })
         .collect();
     let an = Mat::<f64>::from_fn(a.nrows(), a.ncols(), |r, c| a[(r, c)] * scale[c]);
-    let mut x = an.qr().solve_lstsq(b);
+    let svd = an.thin_svd().map_err(|_| IdentifyError::Singular("LSFD"))?;
+    let sv = svd.S().column_vector();
+    let top = (0..sv.nrows()).map(|i| sv[i]).fold(0.0, f64::max);
+    let utb = svd.U().transpose() * b;
+    let mut y = utb;
+    for i in 0..y.nrows() {
+        let si = sv[i];
+        let inv = if si > 1e-12 * top { 1.0 / si } else { 0.0 };
+        for j in 0..y.ncols() {
+            y[(i, j)] *= inv;
+        }
+    }
+    let mut x = svd.V() * &y;
     for (c, s) in scale.iter().enumerate() {
         for j in 0..x.ncols() {
             x[(c, j)] *= s;
@@ -126,15 +141,6 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
     } else {
         Err(IdentifyError::Singular("LSFD"))
     }
-}
-
-/// Σ_j w_j² |residual_j|² over `lines` for the coefficients of `poles`.
-pub(super) fn weighted_cost(data: &Prepared, a: &Mat<f64>, b: &Mat<f64>, x: &Mat<f64>) -> f64 {
-    let r = b - a * x;
-    let m = data.n_inputs();
-    (0..r.ncols())
-        .map(|j| data.weights[j / m].powi(2) * r.col(j).squared_norm_l2())
-        .sum()
 }
 
 /// The fitted FRF at ω (the test's kind).
@@ -153,17 +159,42 @@ struct Solved {
     relative: f64,
 }
 
+/// Σ_j w_j² |residual_j(ω_k)|² per line k.
+fn line_residuals(data: &Prepared, a: &Mat<f64>, b: &Mat<f64>, x: &Mat<f64>) -> Vec<f64> {
+    let r = b - a * x;
+    let m = data.n_inputs();
+    (0..data.n_lines())
+        .map(|k| {
+            (0..r.ncols())
+                .map(|j| {
+                    data.weights[j / m].powi(2)
+                        * (r[(2 * k, j)].powi(2) + r[(2 * k + 1, j)].powi(2))
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// Significance of mode r: its largest weighted contribution over FRFs and
+/// lines ÷ the RMS of the weighted fit residual on the lines within
+/// `WINDOW` half-bandwidths of it (where a spurious pole would fit noise,
+/// and where a missing neighbour does not count against it).
+const WINDOW: f64 = 8.0;
+
 fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     let all: Vec<usize> = (0..data.n_lines()).collect();
     let a = design(poles, &data.omega, &all, data.kind_order);
     let b = rhs(data, &all);
     let x = solve(&a, &b)?;
-    let cost = weighted_cost(data, &a, &b, &x);
+    let per_line = line_residuals(data, &a, &b, &x);
+    let cost: f64 = per_line.iter().sum();
     let m = data.n_inputs();
+    let nj = data.h.len() as f64;
     let total: f64 = (0..b.ncols())
         .map(|j| data.weights[j / m].powi(2) * b.col(j).squared_norm_l2())
         .sum();
-    let rms = (cost / (data.n_lines() * data.h.len()) as f64).sqrt();
+    let n = data.n_lines();
+    let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
     let significance = (0..poles.len())
         .map(|r| {
             let mut peak: f64 = 0.0;
@@ -181,6 +212,15 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
                     peak = peak.max(w * v.norm());
                 }
             }
+            let half = WINDOW * (-poles[r].re).max(line);
+            let (mut ss, mut count) = (0.0, 0usize);
+            for (k, &om) in data.omega.iter().enumerate() {
+                if (om - poles[r].im).abs() <= half {
+                    ss += per_line[k];
+                    count += 1;
+                }
+            }
+            let rms = (ss / (count.max(1) as f64 * nj)).sqrt();
             peak / rms.max(f64::MIN_POSITIVE)
         })
         .collect();
@@ -201,6 +241,7 @@ pub fn fit_modes(
 ) -> Result<Fit, IdentifyError> {
     let mut poles: Vec<c64> = picked.iter().map(|p| p.pole).collect();
     let mut orders: Vec<usize> = picked.iter().map(|p| p.stable_orders).collect();
+    let mut clusters: Vec<Vec<usize>> = picked.iter().map(|p| p.cluster.clone()).collect();
     loop {
         if refine_poles && !poles.is_empty() {
             poles = refine::refine(data, &poles)?;
@@ -211,6 +252,7 @@ pub fn fit_modes(
         if let Some(r) = weakest.filter(|&r| solved.significance[r] < opts.min_significance) {
             poles.remove(r);
             orders.remove(r);
+            clusters.remove(r);
             continue;
         }
         let nr = poles.len();
@@ -222,6 +264,7 @@ pub fn fit_modes(
                     .map(|j| c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]))
                     .collect(),
                 stable_orders: orders[r],
+                cluster: clusters[r].clone(),
                 significance: solved.significance[r],
             })
             .collect();

@@ -130,6 +130,8 @@ pub struct Mode {
     pub kind: ModeKind,
     /// Orders of the diagram in which the mode's cluster is stable.
     pub stable_orders: usize,
+    /// The cluster's poles (indices in [`Diagram::poles`]).
+    pub cluster: Vec<usize>,
     /// Peak modal contribution ÷ RMS of the fit residual.
     pub significance: f64,
 }
@@ -205,6 +207,7 @@ pub fn identify(
                 residues: m.residues,
                 kind: ModeKind::Elastic,
                 stable_orders: m.stable_orders,
+                cluster: m.cluster,
                 significance: m.significance,
             }
         })

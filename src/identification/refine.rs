@@ -9,7 +9,10 @@
 //! likelihood estimate for equal white noise per weighted FRF). Parameters
 //! x_r = λ_r / σ_r⁰ with σ_r⁰ = max(−Re λ_r⁰, line spacing), so unit steps are
 //! about a half-power half-bandwidth; Levenberg–Marquardt with a forward-
-//! difference Jacobian, on the lines within 12 half-bandwidths of a pole.
+//! difference Jacobian. Poles whose windows (±8 half-bandwidths) overlap
+//! are refined together (a close pair is coupled), each group on its own
+//! window's lines with the other poles held (their residues still free), one
+//! group after the other: small problems, whatever the number of lines.
 //! A pole that moves more than 1.5 units (it drifted to another mode or into
 //! noise) keeps its LSCF value.
 
@@ -21,7 +24,7 @@ use super::prepare::Prepared;
 use super::IdentifyError;
 
 const MAX_ITERATIONS: usize = 40;
-const WINDOW: f64 = 12.0;
+const WINDOW: f64 = 8.0;
 
 fn residual_vector(
     data: &Prepared,
@@ -45,35 +48,49 @@ fn cost(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
 
-/// The poles after refinement (the input's where refinement fails).
-pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError> {
-    let n = data.n_lines();
-    let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
-    let sigma: Vec<f64> = poles0.iter().map(|p| (-p.re).max(line)).collect();
-    let lines: Vec<usize> = (0..n)
-        .filter(|&k| {
-            poles0
-                .iter()
-                .zip(&sigma)
-                .any(|(p, s)| (data.omega[k] - p.im).abs() <= WINDOW * s.max(line))
-        })
-        .collect();
-    if lines.len() < 2 * poles0.len() + 4 {
-        return Ok(poles0.to_vec());
+/// Groups of poles (indices, ascending Im λ) whose windows overlap.
+fn groups(poles: &[c64], sigma: &[f64]) -> Vec<Vec<usize>> {
+    let mut order: Vec<usize> = (0..poles.len()).collect();
+    order.sort_by(|&a, &b| poles[a].im.total_cmp(&poles[b].im));
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for k in order {
+        match out.last_mut() {
+            Some(g)
+                if g.iter().any(|&j| {
+                    (poles[k].im - poles[j].im).abs() < WINDOW * (sigma[k] + sigma[j]) / 2.0
+                }) =>
+            {
+                g.push(k)
+            }
+            _ => out.push(vec![k]),
+        }
     }
-    let b = lsfd::rhs(data, &lines);
-    let to_poles = |x: &[f64]| -> Vec<c64> {
-        (0..poles0.len())
-            .map(|r| c64::new(x[2 * r], x[2 * r + 1]) * sigma[r])
-            .collect()
+    out
+}
+
+/// One LM step loop on the poles `group` of `poles` (scaled by `sigma`),
+/// over `lines`; returns the refined poles.
+fn refine_group(
+    data: &Prepared,
+    poles: &[c64],
+    group: &[usize],
+    sigma: &[f64],
+    lines: &[usize],
+) -> Result<Vec<c64>, IdentifyError> {
+    let b = lsfd::rhs(data, lines);
+    let with = |x: &[f64]| -> Vec<c64> {
+        let mut p = poles.to_vec();
+        for (q, &r) in group.iter().enumerate() {
+            p[r] = c64::new(x[2 * q], x[2 * q + 1]) * sigma[r];
+        }
+        p
     };
-    let mut x: Vec<f64> = poles0
+    let mut x: Vec<f64> = group
         .iter()
-        .zip(&sigma)
-        .flat_map(|(p, s)| [p.re / s, p.im / s])
+        .flat_map(|&r| [poles[r].re / sigma[r], poles[r].im / sigma[r]])
         .collect();
     let np = x.len();
-    let mut r = residual_vector(data, &to_poles(&x), &lines, &b)?;
+    let mut r = residual_vector(data, &with(&x), lines, &b)?;
     let mut c = cost(&r);
     let mut mu = 1e-3;
     for _ in 0..MAX_ITERATIONS {
@@ -82,7 +99,7 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
         for q in 0..np {
             let mut xq = x.clone();
             xq[q] += h;
-            let rq = residual_vector(data, &to_poles(&xq), &lines, &b)?;
+            let rq = residual_vector(data, &with(&xq), lines, &b)?;
             for (i, (a, b0)) in rq.iter().zip(&r).enumerate() {
                 jac[(i, q)] = (a - b0) / h;
             }
@@ -106,15 +123,12 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
                 mu *= 10.0;
                 continue;
             }
-            let rt = residual_vector(data, &to_poles(&xt), &lines, &b)?;
+            let rt = residual_vector(data, &with(&xt), lines, &b)?;
             let ct = cost(&rt);
             if ct < c {
-                let gain = (c - ct) / c;
-                x = xt;
-                r = rt;
-                c = ct;
+                improved = (c - ct) / c > 1e-10;
+                (x, r, c) = (xt, rt, ct);
                 mu = (mu / 3.0).max(1e-9);
-                improved = gain > 1e-10;
                 break;
             }
             mu *= 4.0;
@@ -123,11 +137,32 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
             break;
         }
     }
-    let refined = to_poles(&x);
-    Ok(refined
-        .into_iter()
-        .zip(poles0)
-        .zip(&sigma)
-        .map(|((p, p0), s)| if (p - p0).norm() <= 1.5 * s { p } else { *p0 })
-        .collect())
+    Ok(with(&x))
+}
+
+/// The poles after refinement (the input's where refinement fails).
+pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError> {
+    let n = data.n_lines();
+    let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
+    let sigma: Vec<f64> = poles0.iter().map(|p| (-p.re).max(line)).collect();
+    let mut poles = poles0.to_vec();
+    for group in groups(poles0, &sigma) {
+        let lines: Vec<usize> = (0..n)
+            .filter(|&k| {
+                group
+                    .iter()
+                    .any(|&r| (data.omega[k] - poles0[r].im).abs() <= WINDOW * sigma[r])
+            })
+            .collect();
+        if lines.len() < poles.len() + 2 + group.len() {
+            continue;
+        }
+        let refined = refine_group(data, &poles, &group, &sigma, &lines)?;
+        for &r in &group {
+            if (refined[r] - poles0[r]).norm() <= 1.5 * sigma[r] {
+                poles[r] = refined[r];
+            }
+        }
+    }
+    Ok(poles)
 }

@@ -1,6 +1,6 @@
 //! Automatic choice of the physical poles of a stabilisation diagram.
 //!
-//! The stable poles (frequency, damping and shape) are clustered across
+//! The poles stable in frequency and in damping or shape are clustered across
 //! orders, highest order first: a pole joins the cluster whose first pole λ_c
 //! is nearest in d = |λ − λ_c| / max(−Re λ_c, Δω_line) (distance in units of
 //! the half-power half-bandwidth, or of the line spacing when that is
@@ -10,7 +10,7 @@
 //! A physical mode stays stable once the order can hold it, so its cluster
 //! fills at least `min_fill` of the orders from its first to the highest;
 //! noise poles and the computational poles of over-modelling do not; a
-//! cluster also needs `min_orders` poles. Each kept cluster gives its member
+//! cluster also needs `min_orders` poles stable in all three. Each kept cluster gives its member
 //! nearest the clusters' median pole.
 
 use faer::c64;
@@ -48,6 +48,8 @@ pub struct Picked {
     pub vector: Vec<c64>,
     /// Poles in its cluster.
     pub stable_orders: usize,
+    /// The cluster's poles (indices in [`Diagram::poles`]).
+    pub cluster: Vec<usize>,
 }
 
 struct Cluster {
@@ -65,7 +67,12 @@ pub fn select(diagram: &Diagram, data: &Prepared, opts: &SelectOptions) -> Vec<P
         1.0
     };
     let mut stable: Vec<usize> = (0..diagram.poles.len())
-        .filter(|&k| diagram.poles[k].stability == Stability::Stable)
+        .filter(|&k| {
+            matches!(
+                diagram.poles[k].stability,
+                Stability::Stable | Stability::Damping | Stability::Vector
+            )
+        })
         .collect();
     stable.sort_by_key(|&k| std::cmp::Reverse(diagram.poles[k].order));
     let mut clusters: Vec<Cluster> = Vec::new();
@@ -81,7 +88,11 @@ pub fn select(diagram: &Diagram, data: &Prepared, opts: &SelectOptions) -> Vec<P
             .filter(|(d, c)| *d <= opts.join_distance && mac(&c.vector, &p.vector) >= opts.join_mac)
             .min_by(|a, b| a.0.total_cmp(&b.0));
         match best {
-            Some((_, c)) => c.members.push((p.order, p.pole, k)),
+            Some((_, c)) => {
+                c.members.push((p.order, p.pole, k));
+                c.first = p.pole;
+                c.vector = p.vector.clone();
+            }
             None => clusters.push(Cluster {
                 first: p.pole,
                 vector: p.vector.clone(),
@@ -95,7 +106,12 @@ pub fn select(diagram: &Diagram, data: &Prepared, opts: &SelectOptions) -> Vec<P
         .filter(|c| {
             let low = c.members.iter().map(|m| m.0).min().unwrap_or(top);
             let span = (top - low + 1) as f64;
-            c.members.len() >= opts.min_orders && c.members.len() as f64 >= opts.min_fill * span
+            let full = c
+                .members
+                .iter()
+                .filter(|m| diagram.poles[m.2].stability == Stability::Stable)
+                .count();
+            full >= opts.min_orders && c.members.len() as f64 >= opts.min_fill * span
         })
         .map(|c| {
             let median = |f: &dyn Fn(&c64) -> f64| {
@@ -113,6 +129,7 @@ pub fn select(diagram: &Diagram, data: &Prepared, opts: &SelectOptions) -> Vec<P
                 pole: rep.1,
                 vector: diagram.poles[rep.2].vector.clone(),
                 stable_orders: c.members.len(),
+                cluster: c.members.iter().map(|m| m.2).collect(),
             }
         })
         .collect();

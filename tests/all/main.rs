@@ -11,6 +11,7 @@ mod solvers_support;
 
 mod cli_batch;
 mod cli_demo;
+mod cli_identify;
 mod cli_model;
 mod cli_uff;
 mod diagnose_cases;
