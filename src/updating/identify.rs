@@ -32,7 +32,10 @@
 
 use faer::c64;
 
+use faer::Mat;
+
 use super::frequencies::Resonance;
+use super::fullband::lm::{lm, LeastSquares, LmSettings};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 /// Indicator prominence of a candidate that starts a pole in its
@@ -237,6 +240,46 @@ fn pole(p: Pole) -> c64 {
     c64::new(-z * w, w * (1.0 - z * z).sqrt())
 }
 
+/// (ln f_1, ln ζ_1, ln f_2, …) as poles.
+fn poles_of(x: &[f64]) -> Vec<Pole> {
+    x.chunks(2).map(|c| (c[0], c[1])).collect()
+}
+
+/// The projected residual of a band as a least-squares problem in the
+/// pole parameters (variable projection: the residues are eliminated).
+struct PoleFit<'a> {
+    band: &'a Band,
+}
+
+impl LeastSquares for PoleFit<'_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        Some(self.band.residual(&poles_of(x)))
+    }
+
+    /// Forward differences with step 1e-6 in the log parameters.
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
+        let h = 1e-6;
+        let mut jac = Mat::<f64>::zeros(r.len(), x.len());
+        for k in (0..x.len()).filter(|&k| free[k]) {
+            let mut xp = x.to_vec();
+            xp[k] += h;
+            let rk = self.band.residual(&poles_of(&xp));
+            for (row, (a, b)) in rk.iter().zip(r).enumerate() {
+                jac[(row, k)] = (a - b) / h;
+            }
+        }
+        Some(jac)
+    }
+
+    fn max_step(&self, i: usize) -> f64 {
+        if i % 2 == 0 {
+            0.05
+        } else {
+            1.0
+        }
+    }
+}
+
 impl Band {
     fn new(lines_hz: &[f64], h: &[Vec<c64>], acc_rms: &[f64], lo: usize, hi: usize) -> Band {
         let hz: Vec<f64> = lines_hz[lo..=hi].to_vec();
@@ -335,78 +378,38 @@ impl Band {
         r
     }
 
-    /// Levenberg–Marquardt on the pole parameters; returns poles and S.
-    fn fit(&self, mut poles: Vec<Pole>) -> (Vec<Pole>, f64) {
-        let mut r = self.residual(&poles);
-        let mut s = dot(&r, &r);
-        let mut mu = 1e-3;
-        let np = 2 * poles.len();
-        for _ in 0..60 {
-            // Forward-difference Jacobian.
-            let mut jac: Vec<Vec<f64>> = Vec::with_capacity(np);
-            for k in 0..np {
-                let h = 1e-6;
-                let mut pp = poles.clone();
+    /// Levenberg–Marquardt ([`lm`]) on the pole parameters (ln f_r, ln ζ_r),
+    /// steps of at most 5 % in f and a factor e in ζ, ζ ≤ 0.5; returns the
+    /// poles and S = Σr².
+    fn fit(&self, poles: Vec<Pole>) -> (Vec<Pole>, f64) {
+        let x0: Vec<f64> = poles.iter().flat_map(|p| [p.0, p.1]).collect();
+        let lo = vec![f64::NEG_INFINITY; x0.len()];
+        let hi: Vec<f64> = (0..x0.len())
+            .map(|k| {
                 if k % 2 == 0 {
-                    pp[k / 2].0 += h;
+                    f64::INFINITY
                 } else {
-                    pp[k / 2].1 += h;
+                    0.5f64.ln()
                 }
-                let rk = self.residual(&pp);
-                jac.push(rk.iter().zip(&r).map(|(a, b)| (a - b) / h).collect());
-            }
-            let mut jtj = vec![vec![0.0; np]; np];
-            let mut jtr = vec![0.0; np];
-            for a in 0..np {
-                jtr[a] = dot(&jac[a], &r);
-                for b in a..np {
-                    let v = dot(&jac[a], &jac[b]);
-                    jtj[a][b] = v;
-                    jtj[b][a] = v;
-                }
-            }
-            let mut improved = false;
-            for _ in 0..12 {
-                let mut m = jtj.clone();
-                for (a, row) in m.iter_mut().enumerate() {
-                    row[a] += mu * jtj[a][a].max(1e-300);
-                }
-                let Some(delta) = solve_spd(m, jtr.iter().map(|x| -x).collect()) else {
-                    mu *= 10.0;
-                    continue;
-                };
-                let mut trial = poles.clone();
-                for (k, d) in delta.iter().enumerate() {
-                    // Steps of at most 5 % in f and a factor e in ζ.
-                    let d = if k % 2 == 0 {
-                        d.clamp(-0.05, 0.05)
-                    } else {
-                        d.clamp(-1.0, 1.0)
-                    };
-                    if k % 2 == 0 {
-                        trial[k / 2].0 += d;
-                    } else {
-                        trial[k / 2].1 = (trial[k / 2].1 + d).min((0.5f64).ln());
-                    }
-                }
-                let rt = self.residual(&trial);
-                let st = dot(&rt, &rt);
-                if st < s {
-                    let gain = (s - st) / s.max(1e-300);
-                    poles = trial;
-                    r = rt;
-                    s = st;
-                    mu = (mu * 0.3).max(1e-9);
-                    improved = gain > 1e-10;
-                    break;
-                }
-                mu *= 10.0;
-            }
-            if !improved {
-                break;
+            })
+            .collect();
+        // Stop as the pole fit always has: on a relative gain below 1e-10,
+        // after twelve increases of λ.
+        let settings = LmSettings {
+            max_iter: 60,
+            relative_gain: 1e-10,
+            min_move: 0.0,
+            tries: 12,
+            ..LmSettings::default()
+        };
+        match lm(&mut PoleFit { band: self }, &x0, &lo, &hi, settings) {
+            Some(o) => (poles_of(&o.x), dot(&o.residuals, &o.residuals)),
+            None => {
+                let r = self.residual(&poles);
+                let s = dot(&r, &r);
+                (poles, s)
             }
         }
-        (poles, s)
     }
 
     /// Residues (unweighted, per channel and pole) for the given poles.
@@ -611,46 +614,6 @@ fn back_substitute(r: &[Vec<f64>], qty: &[f64]) -> Vec<f64> {
         x[j] = s / r[j][j];
     }
     x
-}
-
-/// Cholesky solve of a small SPD system; `None` if not positive definite.
-// Index loops read as the textbook algorithm.
-#[allow(clippy::needless_range_loop)]
-fn solve_spd(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    for j in 0..n {
-        let mut d = a[j][j];
-        for k in 0..j {
-            d -= a[j][k] * a[j][k];
-        }
-        if !(d > 0.0) {
-            return None;
-        }
-        let d = d.sqrt();
-        a[j][j] = d;
-        for i in j + 1..n {
-            let mut s = a[i][j];
-            for k in 0..j {
-                s -= a[i][k] * a[j][k];
-            }
-            a[i][j] = s / d;
-        }
-    }
-    for i in 0..n {
-        let mut s = b[i];
-        for k in 0..i {
-            s -= a[i][k] * b[k];
-        }
-        b[i] = s / a[i][i];
-    }
-    for i in (0..n).rev() {
-        let mut s = b[i];
-        for k in i + 1..n {
-            s -= a[k][i] * b[k];
-        }
-        b[i] = s / a[i][i];
-    }
-    Some(b)
 }
 
 #[cfg(test)]

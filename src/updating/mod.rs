@@ -359,6 +359,9 @@ pub struct UpdateResult {
     /// FDAC matrices (Eq. 44) of the initial and final models at the updating frequencies.
     pub fdac_initial: Vec<Vec<f64>>,
     pub fdac_final: Vec<Vec<f64>>,
+    /// The test's resonances as found (suspension modes included), with
+    /// their fitted shapes.
+    pub test_resonances: iterate::MeasuredResonances,
     pub warnings: Vec<UpdateWarning>,
     pub options: UpdateOptions,
     /// What the campaign measured (a column, a row used by reciprocity, …).

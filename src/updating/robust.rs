@@ -90,7 +90,7 @@ fn first_stage(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
 ) -> Result<UpdateResult, UpdateError> {
-    match update_model(&mut |v| model::build(deck, v), test, opts, progress) {
+    match update_model(&mut |v| model::build(deck, v), test, opts, progress, None) {
         // No resonance stands out of the test's FRFs (heavy damping, a
         // sparse axis): place the first stage's updating frequencies around
         // the deck's own natural frequencies instead; the full-band estimate
@@ -103,7 +103,7 @@ fn first_stage(
                 frequencies_hz: Some(freqs),
                 ..opts.clone()
             };
-            update_model(&mut |v| model::build(deck, v), test, &o, progress)
+            update_model(&mut |v| model::build(deck, v), test, &o, progress, None)
         }
         // A step of the first stage gave no usable model (a mechanism, a
         // failed eigen solution): the estimate starts from the deck alone.
@@ -113,7 +113,7 @@ fn first_stage(
                 frequencies_first: false,
                 ..opts.clone()
             };
-            let mut r = update_model(&mut |v| model::build(deck, v), test, &o, progress)?;
+            let mut r = update_model(&mut |v| model::build(deck, v), test, &o, progress, None)?;
             r.warnings.push(UpdateWarning::FirstStageStopped {
                 reason: e.to_string(),
             });
@@ -242,7 +242,8 @@ fn test_data(deck: &Deck, test: &MeasuredFrfs) -> Result<TestData, UpdateError> 
 }
 
 /// The record of the final parameters: the first stage's machinery run for
-/// zero iterations on the deck with the values multiplied out, relabelled.
+/// zero iterations on the deck with the values multiplied out (on the test
+/// resonances the first stage found), relabelled.
 fn score(
     deck: &Deck,
     test: &MeasuredFrfs,
@@ -262,6 +263,7 @@ fn score(
         test,
         &once,
         &mut |_| {},
+        Some(&stage1.test_resonances),
     )?;
     let mut rec = scored.iterations[0].clone();
     rec.index = stage1.iterations.len();

@@ -131,6 +131,7 @@ fn run(problem: &mut Frequencies, p: &mut Vec<f64>, damp: &mut DampingState) -> 
     let settings = LmSettings {
         max_iter: COARSE_ITERATIONS,
         negligible: 1e-10,
+        ..LmSettings::default()
     };
     let Some(out) = lm::lm(problem, p, &lo, &hi, settings) else {
         return false;

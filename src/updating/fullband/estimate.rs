@@ -38,7 +38,7 @@ use frfup_parsers::deck::Deck;
 use super::coarse;
 use super::data::TestData;
 use super::fit::{self, DampingState, Mask};
-use super::lm::{self, LmOutcome, LmSettings};
+use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
 use super::objective::{minimise, Objective};
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
@@ -61,6 +61,8 @@ const WEAK_PRIOR_SD: f64 = 1.0;
 const NEGLIGIBLE: f64 = 0.05;
 /// Levenberg–Marquardt iterations of the damping fit at each start.
 const START_ITERATIONS: usize = 20;
+/// Relative gain of the cost below which a start's damping fit stops.
+const START_GAIN: f64 = 1e-5;
 
 /// Bounds and prior of one parameter (relative change p̄).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -163,6 +165,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         form: damp0.form,
         prior_scale: j0.sqrt(),
         reduced: None,
+        previous: None,
         cache: None,
         last: None,
         solutions: 0,
@@ -260,9 +263,15 @@ fn best_start(
         lo[..np].copy_from_slice(&p);
         hi[..np].copy_from_slice(&p);
         let x = [p.clone(), damp0.x.clone()].concat();
+        let Some(r0) = obj.residuals(&x) else {
+            continue;
+        };
+        // The starts' costs differ by orders of magnitude where the choice
+        // matters: a gain below START_GAIN of the cost cannot change it.
         let settings = LmSettings {
             max_iter: START_ITERATIONS,
-            negligible: 0.0,
+            negligible: START_GAIN * r0.iter().map(|v| v * v).sum::<f64>(),
+            ..LmSettings::default()
         };
         let Some(out) = lm::lm(obj, &x, &lo, &hi, settings) else {
             continue;

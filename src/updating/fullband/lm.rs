@@ -1,10 +1,15 @@
 //! Bounded Levenberg–Marquardt: the one least-squares fitter of the full-band
-//! fit and of the diagnosis.
+//! fit, the diagnosis and the test's pole fit (`updating::identify`).
 //!
 //! Minimises Σ r_i(x)² within lo ≤ x ≤ hi. Step: (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr
-//! over the free unknowns (lo < hi), each component clamped to ±2 and the
+//! over the free unknowns (lo < hi), each component clamped to
+//! ±[`LeastSquares::max_step`] (2 unless the problem says otherwise) and the
 //! new point to the bounds; a step is taken only if it lowers the cost (λ
-//! then shrinks ×3), else λ grows ×10 (at most eight tries).
+//! then shrinks ×3), else λ grows ×10 (at most [`LmSettings::tries`] times). A problem that
+//! approximates its residuals near an anchor (see [`LeastSquares::accepted`])
+//! judges the step again on its re-linearised residuals; a step that is
+//! worse there is undone and λ grows ×10, so the cost of the problem itself
+//! never rises.
 
 use faer::linalg::matmul::matmul;
 use faer::{Accum, Mat, MatRef, Par, Side};
@@ -22,6 +27,13 @@ pub trait LeastSquares {
     fn accepted(&mut self, _x: &[f64]) -> Option<Vec<f64>> {
         None
     }
+    /// The step to the point `accepted` was last called with is undone:
+    /// return to the state at `x` (the point before it).
+    fn rejected(&mut self, _x: &[f64]) {}
+    /// Largest change of unknown `i` in one step (a trust region per unknown).
+    fn max_step(&self, _i: usize) -> f64 {
+        2.0
+    }
 }
 
 /// Iteration limit and early stop of [`lm`].
@@ -31,6 +43,26 @@ pub struct LmSettings {
     /// Stop once a step lowers Σr² by less than this (e.g. a small fraction
     /// of the noise variance of one residual: a change no data can tell).
     pub negligible: f64,
+    /// Stop once a step lowers Σr² by less than this fraction of it.
+    pub relative_gain: f64,
+    /// Stop once no unknown moves by more than this.
+    pub min_move: f64,
+    /// Increases of λ tried before the point is taken as stationary.
+    pub tries: usize,
+}
+
+impl Default for LmSettings {
+    /// 100 iterations; stop at a relative gain below 1e-7 or a move below
+    /// 1e-6; eight tries of λ.
+    fn default() -> Self {
+        LmSettings {
+            max_iter: 100,
+            negligible: 0.0,
+            relative_gain: 1e-7,
+            min_move: 1e-6,
+            tries: 8,
+        }
+    }
 }
 
 /// Outcome of a Levenberg–Marquardt run.
@@ -80,7 +112,7 @@ pub fn lm(
         let (jtj, jtr) = normal_equations(jac.as_ref(), &r, &idx);
         let c0 = cost(&r);
         let mut accepted = None;
-        for _ in 0..8 {
+        for _ in 0..settings.tries {
             let mut a = jtj.clone();
             for k in 0..idx.len() {
                 a[(k, k)] += lambda * jtj[(k, k)].max(1e-12);
@@ -91,7 +123,8 @@ pub fn lm(
             };
             let mut xn = x.clone();
             for (k, &i) in idx.iter().enumerate() {
-                xn[i] = (x[i] - step[k].clamp(-2.0, 2.0)).clamp(lo[i], hi[i]);
+                let limit = problem.max_step(i);
+                xn[i] = (x[i] - step[k].clamp(-limit, limit)).clamp(lo[i], hi[i]);
             }
             match problem.residuals(&xn) {
                 Some(rn) if cost(&rn) < c0 => {
@@ -104,15 +137,25 @@ pub fn lm(
         let Some((xn, rn)) = accepted else {
             return outcome(x, r, true, it + 1);
         };
+        let rn = match problem.accepted(&xn) {
+            Some(relinearised) if cost(&relinearised) >= c0 => {
+                problem.rejected(&x);
+                lambda *= 10.0;
+                continue;
+            }
+            Some(relinearised) => relinearised,
+            None => rn,
+        };
         let cn = cost(&rn);
         let moved = idx
             .iter()
             .map(|&i| (xn[i] - x[i]).abs())
             .fold(0.0, f64::max);
-        let small = (c0 - cn) / c0.max(1e-300) < 1e-7 || moved < 1e-6;
+        let small =
+            (c0 - cn) / c0.max(1e-300) < settings.relative_gain || moved < settings.min_move;
         let negligible = c0 - cn < settings.negligible;
         x = xn;
-        r = problem.accepted(&x).unwrap_or(rn);
+        r = rn;
         lambda = (lambda / 3.0).max(1e-9);
         if small || negligible {
             return outcome(x, r, true, it + 1);
@@ -225,7 +268,7 @@ where
     };
     let settings = LmSettings {
         max_iter,
-        negligible: 0.0,
+        ..LmSettings::default()
     };
     lm(&mut problem, x0, lo, hi, settings)
 }
@@ -270,6 +313,59 @@ mod tests {
         let out = lm_differences(f, &[1.0, 0.0], &[0.0, -0.5], &[10.0, 5.0], 100).unwrap();
         assert!(
             out.x[1] >= -0.5 && (out.x[1] + 0.5).abs() < 1e-12,
+            "{:?}",
+            out.x
+        );
+    }
+
+    /// r(x) = x² − 0.01 seen through its linearisation at an anchor that
+    /// moves to each accepted point (as the full-band estimate's reduced
+    /// model does). From x = 0.005 the linear model's first step lands near
+    /// x = 1, where the true cost is 10⁴ times higher: that step must be
+    /// undone, and the true cost at the anchors kept must fall monotonically
+    /// to the root x = 0.1.
+    struct Linearised {
+        anchor: f64,
+        kept: Vec<f64>,
+        undone: usize,
+    }
+
+    impl LeastSquares for Linearised {
+        fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+            let a = self.anchor;
+            Some(vec![a * a - 0.01 + 2.0 * a * (x[0] - a)])
+        }
+        fn jacobian(&mut self, _x: &[f64], _r: &[f64], _free: &[bool]) -> Option<Mat<f64>> {
+            Some(Mat::from_fn(1, 1, |_, _| 2.0 * self.anchor))
+        }
+        fn accepted(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+            self.anchor = x[0];
+            self.kept.push(x[0]);
+            Some(vec![x[0] * x[0] - 0.01])
+        }
+        fn rejected(&mut self, x: &[f64]) {
+            self.kept.pop();
+            self.anchor = x[0];
+            self.undone += 1;
+        }
+    }
+
+    #[test]
+    fn a_step_worse_on_the_relinearised_problem_is_undone() {
+        let mut p = Linearised {
+            anchor: 0.005,
+            kept: vec![0.005],
+            undone: 0,
+        };
+        let settings = LmSettings::default();
+        let out = lm(&mut p, &[0.005], &[-10.0], &[10.0], settings).unwrap();
+        assert!(p.undone >= 1, "no step was undone");
+        let true_cost = |x: f64| (x * x - 0.01).powi(2);
+        for w in p.kept.windows(2) {
+            assert!(true_cost(w[1]) < true_cost(w[0]), "{:?}", p.kept);
+        }
+        assert!(
+            out.converged && (out.x[0] - 0.1).abs() < 1e-6,
             "{:?}",
             out.x
         );

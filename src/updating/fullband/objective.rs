@@ -37,6 +37,9 @@ pub struct Objective<'a> {
     /// √J₀, the scale of a prior row.
     pub prior_scale: f64,
     pub reduced: Option<ReducedModel>,
+    /// The reduced model before the last re-anchoring, kept until the step
+    /// that moved the anchor is judged on the new one.
+    pub previous: Option<ReducedModel>,
     /// The reduced solution at the last structural parameters.
     pub cache: Option<(Vec<f64>, ReducedModes)>,
     /// The model FRFs at the last x.
@@ -135,8 +138,21 @@ impl LeastSquares for Objective<'_> {
         if self.reduced.as_ref()?.drift(&x[..np]) <= ANCHOR_DRIFT {
             return None;
         }
-        self.anchor(&x[..np]).ok()?;
+        let previous = self.reduced.take();
+        if self.anchor(&x[..np]).is_err() {
+            self.reduced = previous;
+            return None;
+        }
+        self.previous = previous;
         self.residuals(x)
+    }
+
+    fn rejected(&mut self, _x: &[f64]) {
+        if let Some(previous) = self.previous.take() {
+            self.reduced = Some(previous);
+            self.cache = None;
+            self.last = None;
+        }
     }
 }
 
@@ -160,6 +176,7 @@ pub fn minimise(
     let settings = LmSettings {
         max_iter,
         negligible,
+        ..LmSettings::default()
     };
     let failed = || FitError::Eigen("the reduced model could not be solved".into());
     let mut out = lm::lm(obj, x0, lo, hi, settings).ok_or_else(failed)?;
@@ -181,6 +198,7 @@ pub fn minimise(
         let left = LmSettings {
             max_iter: max_iter - out.iterations,
             negligible,
+            ..LmSettings::default()
         };
         let again = lm::lm(obj, &out.x, lo, hi, left).ok_or_else(failed)?;
         let gain = c0 - again.residuals.iter().map(|v| v * v).sum::<f64>();

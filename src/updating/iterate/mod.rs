@@ -37,7 +37,7 @@ use crate::model::{self, FeModel, ModelError, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use state::IterationState;
 
-pub use prepare::eigen_count;
+pub use prepare::{eigen_count, MeasuredResonances};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
@@ -76,13 +76,15 @@ pub fn update_with_progress(
             test,
             opts,
             progress,
+            None,
         ),
         UpdateMethod::Robust => super::robust::update_robust(deck, test, opts, progress),
     }
 }
 
 /// The iteration on any model source: `build` assembles the FE model at the
-/// given relative parameter changes (p̄, deck order names).
+/// given relative parameter changes (p̄, deck order names); `known`: the
+/// test's resonances found by an earlier run on the same test and options.
 ///
 /// Each pass scores the model at p̄^n (`IterationState::evaluate`), moves
 /// out of the frequencies-first stage when its resonances are close, applies
@@ -92,11 +94,12 @@ pub fn update_model(
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(&IterationRecord),
+    known: Option<&MeasuredResonances>,
 ) -> Result<UpdateResult, UpdateError> {
     prepare::check_options(opts)?;
     let (column, layout) = crate::testdata::layout::as_column(test);
     let mut warnings = Vec::new();
-    let (problem, start) = prepare::prepare(build, &column, opts, &mut warnings)?;
+    let (problem, start) = prepare::prepare(build, &column, opts, known, &mut warnings)?;
     let mut state = IterationState::new(&problem, opts, start, warnings);
     let mut stop = StopReason::IterationLimit;
     for n in 0..=opts.max_iter {

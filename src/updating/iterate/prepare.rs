@@ -15,6 +15,16 @@ use crate::updating::measured::MeasuredDofs;
 use crate::updating::serep::InverseMethod;
 use crate::updating::{ResonanceMethod, UpdateError, UpdateOptions, UpdateWarning};
 
+/// The test's resonances as found (before suspension modes are left out)
+/// and, from the modal fit, their mode shapes at the measured DOFs (`None`:
+/// peak picking). They depend on the test and the options only, so a later
+/// run on the same test can be handed them instead of finding them again.
+#[derive(Clone, Debug, Default)]
+pub struct MeasuredResonances {
+    pub peaks: Vec<Resonance>,
+    pub shapes: Option<Vec<Vec<f64>>>,
+}
+
 /// The test side of the updating equations and the sizes of the model side.
 pub(super) struct Problem {
     /// Parameter names in deck order; p̄ is aligned with them.
@@ -32,6 +42,8 @@ pub(super) struct Problem {
     /// deflection shapes at the peaks) and their frequencies (Hz), for pairing.
     pub test_shapes: Vec<Vec<f64>>,
     pub test_hz: Vec<f64>,
+    /// The resonances as found, for [`crate::updating::UpdateResult::test_resonances`].
+    pub found: MeasuredResonances,
     /// N_md, the SEREP basis size asked for.
     pub n_md: usize,
     /// Modes computed per iteration ([`eigen_count`]).
@@ -46,11 +58,13 @@ pub(super) struct Start {
 }
 
 /// Build the initial model, map the test onto it and choose the updating
-/// frequencies; warnings about the test go to `warnings`.
+/// frequencies (from `known` resonances when given, else found in the test);
+/// warnings about the test go to `warnings`.
 pub(super) fn prepare(
     build: &mut dyn FnMut(&ParameterValues) -> Result<FeModel, ModelError>,
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
+    known: Option<&MeasuredResonances>,
     warnings: &mut Vec<UpdateWarning>,
 ) -> Result<(Problem, Start), UpdateError> {
     let model0 = build(&ParameterValues::new()).map_err(UpdateError::Model)?;
@@ -60,7 +74,11 @@ pub(super) fn prepare(
     }
     let meas = MeasuredDofs::new(&model0, test, warnings)?;
     let n_ex = meas.len();
-    let (mut peaks, mut fitted_shapes) = measured_resonances(&meas, opts);
+    let found = match known {
+        Some(k) => k.clone(),
+        None => measured_resonances(&meas, opts),
+    };
+    let (mut peaks, mut fitted_shapes) = (found.peaks.clone(), found.shapes.clone());
     let mut modes0 = None;
     if !model0.has_fixed_dofs && !peaks.is_empty() {
         modes0 = Some(leave_out_suspension_modes(
@@ -113,6 +131,7 @@ pub(super) fn prepare(
         h_test,
         test_shapes,
         test_hz,
+        found,
         n_md,
         n_eig,
     };
@@ -125,16 +144,16 @@ pub(super) fn prepare(
 
 /// The measured resonances (Eq. 42's ω̄_r) and, from the modal fit, their
 /// mode shapes at the measured DOFs (`None`: peak picking's deflection shapes).
-fn measured_resonances(
-    meas: &MeasuredDofs,
-    opts: &UpdateOptions,
-) -> (Vec<Resonance>, Option<Vec<Vec<f64>>>) {
+fn measured_resonances(meas: &MeasuredDofs, opts: &UpdateOptions) -> MeasuredResonances {
     let ind = indicator(&meas.mobility);
     let peak_options = PeakOptions {
         min_prominence: opts.min_prominence,
     };
     match opts.resonance_method {
-        ResonanceMethod::PeakPicking => (pick_peaks(&meas.lines_hz, &ind, &peak_options), None),
+        ResonanceMethod::PeakPicking => MeasuredResonances {
+            peaks: pick_peaks(&meas.lines_hz, &ind, &peak_options),
+            shapes: None,
+        },
         ResonanceMethod::ModalFit => {
             let modes = identify_modes(
                 &meas.lines_hz,
@@ -144,12 +163,15 @@ fn measured_resonances(
             );
             if modes.is_empty() {
                 // No pole fits (e.g. an undamped model's FRFs): the peaks.
-                (pick_peaks(&meas.lines_hz, &ind, &peak_options), None)
+                MeasuredResonances {
+                    peaks: pick_peaks(&meas.lines_hz, &ind, &peak_options),
+                    shapes: None,
+                }
             } else {
-                (
-                    modes.iter().map(|m| m.resonance()).collect(),
-                    Some(modes.into_iter().map(|m| m.shape).collect()),
-                )
+                MeasuredResonances {
+                    peaks: modes.iter().map(|m| m.resonance()).collect(),
+                    shapes: Some(modes.into_iter().map(|m| m.shape).collect()),
+                }
             }
         }
     }

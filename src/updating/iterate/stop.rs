@@ -113,6 +113,7 @@ impl IterationState {
             excitation: problem.meas.excitation_label,
             fdac_initial,
             fdac_final,
+            test_resonances: problem.found,
             warnings: self.warnings,
             options: opts.clone(),
             layout,
