@@ -207,20 +207,24 @@ pub fn summed_magnitude(data: &Prepared) -> Vec<f64> {
 
 /// Highest model order by default: two poles per peak of the summed FRF
 /// (a peak may hide two modes) twice over, plus 16 for the residual terms,
-/// per reference, between 24 and 80. A peak is the largest value within ±3
-/// lines standing 25 % above the smallest within ±15, by at least a fifth of
-/// the median (noise ripples in anti-resonances do not).
+/// per reference, between 24 and 80. A peak is the largest value within ±w
+/// lines standing 25 % above the smallest within ±5w, by at least a fifth
+/// of the median (noise ripples in anti-resonances do not); w = 3 lines, or
+/// 1/300 of the band on long records.
 pub fn default_max_order(data: &Prepared) -> usize {
     let s = summed_magnitude(data);
     let n = s.len();
     let mut sorted = s.clone();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[n / 2];
+    let w = (n / 300).max(3);
     let window = |k: usize, w: usize| &s[k.saturating_sub(w)..(k + w + 1).min(n)];
     let peaks = (0..n)
         .filter(|&k| {
-            let near = window(k, 3).iter().fold(0.0f64, |a, &b| a.max(b));
-            let low = window(k, 15).iter().fold(f64::INFINITY, |a, &b| a.min(b));
+            let near = window(k, w).iter().fold(0.0f64, |a, &b| a.max(b));
+            let low = window(k, 5 * w)
+                .iter()
+                .fold(f64::INFINITY, |a, &b| a.min(b));
             s[k] >= near && s[k] > 1.25 * low && s[k] - low > 0.2 * median
         })
         .count();

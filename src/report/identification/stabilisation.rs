@@ -6,10 +6,10 @@
 
 use plotters::prelude::*;
 
-use crate::identification::{Identification, Stability};
+use crate::identification::{Diagram, Identification, Stability};
 use crate::report::charts::{
     draw_legend, draw_mesh, draw_title, legend_height, svg, tick_label, title_height, Axes,
-    ChartError, LegendEntry, Marker, Swatch, DARK, GREY, LIGHT_GREY,
+    Chart2d, ChartError, LegendEntry, Marker, Swatch, DARK, GREY, LIGHT_GREY,
 };
 
 const WIDTH: u32 = 960;
@@ -49,6 +49,34 @@ const ORDERED: [Stability; 6] = [
     Stability::New,
     Stability::Unphysical,
 ];
+
+/// The summed FRF, log-scaled onto [0, ymax], at most 2000 points (the
+/// largest of each run of lines: peaks survive).
+fn draw_indicator(chart: &mut Chart2d, d: &Diagram, ymax: f64) -> Result<(), ChartError> {
+    let step = d.indicator.len().div_ceil(2000).max(1);
+    let freqs: Vec<f64> = d.frequencies_hz.chunks(step).map(|c| c[0]).collect();
+    let logs: Vec<f64> = d
+        .indicator
+        .chunks(step)
+        .map(|c| c.iter().fold(1e-300f64, |a, &b| a.max(b)).log10())
+        .collect();
+    let (lo, hi) = logs
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if hi > lo {
+        let pts = freqs
+            .iter()
+            .zip(&logs)
+            .map(|(&f, &l)| (f, 0.02 * ymax + 0.96 * ymax * (l - lo) / (hi - lo)));
+        chart.draw_series(std::iter::once(PathElement::new(
+            pts.collect::<Vec<_>>(),
+            GREY.stroke_width(1),
+        )))?;
+    }
+    Ok(())
+}
 
 /// The chart's SVG text.
 pub fn render(id: &Identification, title: &str) -> Result<String, ChartError> {
@@ -109,24 +137,7 @@ pub fn render(id: &Identification, title: &str) -> Result<String, ChartError> {
                 y_labels: 8,
             },
         )?;
-        // The indicator, log-scaled onto [0, ymax].
-        let logs: Vec<f64> = d.indicator.iter().map(|v| v.max(1e-300).log10()).collect();
-        let (lo, hi) = logs
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-                (a.min(v), b.max(v))
-            });
-        if hi > lo {
-            let pts = d
-                .frequencies_hz
-                .iter()
-                .zip(&logs)
-                .map(|(&f, &l)| (f, 0.02 * ymax + 0.96 * ymax * (l - lo) / (hi - lo)));
-            chart.draw_series(std::iter::once(PathElement::new(
-                pts.collect::<Vec<_>>(),
-                GREY.stroke_width(1),
-            )))?;
-        }
+        draw_indicator(&mut chart, d, ymax)?;
         for m in &id.modes {
             chart.draw_series(std::iter::once(plotters::element::DashedPathElement::new(
                 vec![(m.frequency_hz, 0.0), (m.frequency_hz, ymax)],
