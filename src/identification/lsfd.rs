@@ -197,30 +197,29 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
     let significance = (0..poles.len())
         .map(|r| {
+            // The contribution peaks within its window: only those lines.
+            let half = WINDOW * (-poles[r].re).max(line);
+            let near: Vec<usize> = (0..n)
+                .filter(|&k| (data.omega[k] - poles[r].im).abs() <= half)
+                .collect();
             let mut peak: f64 = 0.0;
             for j in 0..data.h.len() {
                 let res = c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]);
                 let w = data.weights[j / m];
-                for &om in &data.omega {
+                for &k in &near {
+                    let one = [poles[r]];
                     let v = evaluate(
-                        &[poles[r]],
+                        &one,
                         &[res],
                         &Residual::default(),
-                        om,
+                        data.omega[k],
                         data.kind_order,
                     );
                     peak = peak.max(w * v.norm());
                 }
             }
-            let half = WINDOW * (-poles[r].re).max(line);
-            let (mut ss, mut count) = (0.0, 0usize);
-            for (k, &om) in data.omega.iter().enumerate() {
-                if (om - poles[r].im).abs() <= half {
-                    ss += per_line[k];
-                    count += 1;
-                }
-            }
-            let rms = (ss / (count.max(1) as f64 * nj)).sqrt();
+            let ss: f64 = near.iter().map(|&k| per_line[k]).sum();
+            let rms = (ss / (near.len().max(1) as f64 * nj)).sqrt();
             peak / rms.max(f64::MIN_POSITIVE)
         })
         .collect();
@@ -231,8 +230,8 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     })
 }
 
-/// Fits the picked poles (refined first when `refine`), dropping the least
-/// significant mode while one is below `opts.min_significance`.
+/// Fits the picked poles (refined first when `refine`), dropping every mode
+/// below `opts.min_significance` and refitting until none is.
 pub fn fit_modes(
     data: &Prepared,
     picked: &[Picked],
@@ -242,17 +241,23 @@ pub fn fit_modes(
     let mut poles: Vec<c64> = picked.iter().map(|p| p.pole).collect();
     let mut orders: Vec<usize> = picked.iter().map(|p| p.stable_orders).collect();
     let mut clusters: Vec<Vec<usize>> = picked.iter().map(|p| p.cluster.clone()).collect();
+    if refine_poles && !poles.is_empty() {
+        poles = refine::refine(data, &poles)?;
+    }
     loop {
-        if refine_poles && !poles.is_empty() {
-            poles = refine::refine(data, &poles)?;
-        }
         let solved = fit_once(data, &poles)?;
-        let weakest = (0..poles.len())
-            .min_by(|&a, &b| solved.significance[a].total_cmp(&solved.significance[b]));
-        if let Some(r) = weakest.filter(|&r| solved.significance[r] < opts.min_significance) {
-            poles.remove(r);
-            orders.remove(r);
-            clusters.remove(r);
+        let keep: Vec<bool> = solved
+            .significance
+            .iter()
+            .map(|s| *s >= opts.min_significance)
+            .collect();
+        if keep.iter().any(|k| !k) {
+            let mut k = keep.iter();
+            poles.retain(|_| *k.next().unwrap());
+            let mut k = keep.iter();
+            orders.retain(|_| *k.next().unwrap());
+            let mut k = keep.iter();
+            clusters.retain(|_| *k.next().unwrap());
             continue;
         }
         let nr = poles.len();
