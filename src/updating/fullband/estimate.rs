@@ -94,7 +94,10 @@ pub struct EstimateRequest<'a> {
     /// Candidate starting points p̄ (deck order); the one that fits best
     /// (after a damping fit) is used.
     pub starts: Vec<Vec<f64>>,
-    /// Levenberg–Marquardt iteration limit.
+    /// Levenberg–Marquardt iteration limit of the first pass; the second
+    /// pass, whose optimum is the result, may take twice as many (on a long
+    /// curved valley it is still descending at the noise level when the
+    /// first pass's budget would stop it).
     pub max_iter: usize,
 }
 
@@ -189,7 +192,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         ..obj
     };
     let mut first = first;
-    let mut second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
+    let mut second = second_pass(&mut obj, &first, &lo, &hi, 2 * req.max_iter, j0)?;
     // A parameter left free that still ends above its identification limit
     // is not identified either: it is held at the deck's value and the pass
     // repeated (a number the data do not support never reaches updated.deck).
@@ -205,7 +208,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
             first.seen.sd_data[j] = first.seen.sd_data[j].max(second.sd[j]);
         }
         first.unseen.extend(newly);
-        second = second_pass(&mut obj, &first, &lo, &hi, req.max_iter, j0)?;
+        second = second_pass(&mut obj, &first, &lo, &hi, 2 * req.max_iter, j0)?;
     }
     let data_n = obj.data_rows(second.out.residuals.len());
     // Against the noise level, but never below that of 0.1 % noise: on
