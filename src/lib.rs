@@ -7,7 +7,8 @@
 //! 1. `frfup_parsers` (UFF files, model decks; its own crate) and [`fsio`]
 //!    (bounded reads, atomic writes);
 //! 2. [`testdata`] (measured FRFs) and [`model`] (FE matrices);
-//! 3. [`solvers`] (modes, FRFs);
+//! 3. [`solvers`] (modes, FRFs) and [`identification`] (modes identified
+//!    from measured FRFs: LSCF poles, automatic selection, LSFD residues);
 //! 4. [`simulate`] (measured-style FRFs computed from a model);
 //! 5. [`benchmark`] (random updating cases with known truths);
 //! 6. [`updating`] (the FRF updating method of Yan & Golinval, and the
@@ -38,6 +39,8 @@ pub mod model;
 pub mod testdata;
 
 pub mod solvers;
+
+pub mod identification;
 
 pub mod simulate;
 

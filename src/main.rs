@@ -57,6 +57,8 @@ enum Command {
     Update(UpdateArgs),
     /// Which physics the model lacks: update, localise, test hypotheses (diagnosis.json, diagnosed.deck, report.md).
     Diagnose(DiagnoseArgs),
+    /// The test's modes by experimental modal analysis (PolyMAX poles, LSFD shapes): modes.csv, modes.uff, report.html.
+    Identify(IdentifyArgs),
     /// Run a campaign of updates (CAMPAIGN.toml with [[case]] tables) for CI.
     Batch(BatchArgs),
 }
@@ -232,6 +234,24 @@ struct DiagnoseArgs {
     settings: UpdateSettings,
 }
 
+// `frfup identify`.
+#[derive(clap::Args)]
+struct IdentifyArgs {
+    test: PathBuf,
+    /// Output folder.
+    #[arg(long)]
+    out: PathBuf,
+    /// Frequency band F0:F1 (Hz); default: every line.
+    #[arg(long, value_name = "F0:F1")]
+    band: Option<String>,
+    /// Highest model order of the stabilisation diagram (default: from the peaks).
+    #[arg(long)]
+    max_order: Option<usize>,
+    /// Pair the test modes with this deck's modes (MAC and frequency).
+    #[arg(long)]
+    deck: Option<PathBuf>,
+}
+
 // `frfup batch`.
 #[derive(clap::Args)]
 struct BatchArgs {
@@ -319,6 +339,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
         Command::Simulate(a) => simulate(a, &g),
         Command::Update(a) => update(a, &g),
         Command::Diagnose(a) => diagnose(a, &g),
+        Command::Identify(a) => identify(a, &g),
         Command::Batch(a) => batch(a, &g),
     }
 }
@@ -506,6 +527,27 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         }
         _ => Ok(()),
     }
+}
+
+fn identify(a: IdentifyArgs, g: &Global) -> Result<(), CommandError> {
+    let band_hz = a
+        .band
+        .as_deref()
+        .map(commands::identify::parse_band)
+        .transpose()?;
+    let id = commands::identify::run(&commands::identify::IdentifyCommand {
+        test: a.test,
+        out: a.out.clone(),
+        band_hz,
+        max_order: a.max_order,
+        deck: a.deck,
+        strict: g.strict,
+    })?;
+    if !g.quiet {
+        print!("{}", commands::identify::summary(&id));
+        println!("wrote {}", a.out.display());
+    }
+    Ok(())
 }
 
 fn batch(a: BatchArgs, g: &Global) -> Result<(), CommandError> {

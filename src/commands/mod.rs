@@ -1,5 +1,5 @@
 //! The command line's own tasks as library calls (`info`, `convert`,
-//! `modes`, `simulate`, `diagnose`, `demo`): each takes typed options, writes
+//! `modes`, `simulate`, `diagnose`, `identify`, `demo`): each takes typed options, writes
 //! its files atomically and returns a [`CommandError`] that `main` turns into
 //! a message and an exit code (0 fine, 1 a threshold failed, 2 bad input or
 //! usage). `update` and `batch` are library tasks below this layer
@@ -8,6 +8,7 @@
 pub mod convert;
 pub mod demo;
 pub mod diagnose;
+pub mod identify;
 pub mod info;
 pub mod modes;
 pub mod progress;

@@ -17,6 +17,7 @@ pub mod charts;
 pub mod data;
 pub mod diagnosis;
 pub mod html;
+pub mod identification;
 pub mod output;
 pub mod prose;
 pub mod status;

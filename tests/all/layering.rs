@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 const LAYERS: &[&[&str]] = &[
     &["fsio"],
     &["testdata", "model"],
-    &["solvers"],
+    &["solvers", "identification"],
     &["simulate"],
     &["benchmark"],
     &["updating"],

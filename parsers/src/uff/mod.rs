@@ -11,7 +11,8 @@
 //! formats take an exact fast path (`number`). Datasets
 //! read: 58/58b (`function58`), 151, 164 (`units`), 15, 2411, 18, 2420, 82
 //! (`geometry`), 55, 1858 (`other`); 2412, 2414 and unknown numbers are kept
-//! as [`OtherKind::Skipped`] with a note. Writing: [`write_functions`] (`write`).
+//! as [`OtherKind::Skipped`] with a note. Writing: [`write_functions`]
+//! (`write`); 55, 15 and 82 (`write_nodal`).
 
 mod function58;
 pub mod geometry;
@@ -22,6 +23,7 @@ mod stream;
 mod text;
 pub mod units;
 pub mod write;
+pub mod write_nodal;
 
 pub use geometry::{CoordinateSystem, CsDefinition, Node, Part, TraceLine};
 pub use other::{Header151, NodalData55, NodeValues, OtherKind};
@@ -29,6 +31,7 @@ pub use units::{
     abscissa_si_factor, ordinate_si_factor, units_label_si_factor, UnitSystem, Units164,
 };
 pub use write::{write_function, write_functions_with, ByteOrder, WriteOptions};
+pub use write_nodal::{write_nodal_data, write_nodes15, write_trace_line82};
 
 /// The complex values of [`Ordinate::Complex`] and [`Ordinate::ComplexSingle`].
 pub use num_complex::{Complex32, Complex64};

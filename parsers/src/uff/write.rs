@@ -29,7 +29,7 @@ pub struct WriteOptions {
     pub byte_order: ByteOrder,
 }
 
-fn invalid(message: String) -> io::Error {
+pub(crate) fn invalid(message: String) -> io::Error {
     io::Error::new(io::ErrorKind::InvalidInput, message)
 }
 
@@ -44,7 +44,7 @@ pub(crate) fn fortran_e(out: &mut String, x: f64, decimals: usize) {
 }
 
 /// `x` right-aligned in `width` columns with `decimals` decimals.
-fn field_e(out: &mut String, x: f64, width: usize, decimals: usize) {
+pub(crate) fn field_e(out: &mut String, x: f64, width: usize, decimals: usize) {
     let mut s = String::with_capacity(24);
     fortran_e(&mut s, x, decimals);
     for _ in s.len()..width {
@@ -70,7 +70,7 @@ fn field_e_fit(out: &mut String, x: f64, width: usize) {
 }
 
 /// Text cut to at most `max` bytes on a character boundary.
-fn cut(s: &str, max: usize) -> &str {
+pub(crate) fn cut(s: &str, max: usize) -> &str {
     let mut end = s.len().min(max);
     while !s.is_char_boundary(end) {
         end -= 1;
@@ -79,7 +79,7 @@ fn cut(s: &str, max: usize) -> &str {
 }
 
 /// An integer checked against its Fortran field width.
-fn int_field(out: &mut String, v: i64, width: usize, what: &str) -> io::Result<()> {
+pub(crate) fn int_field(out: &mut String, v: i64, width: usize, what: &str) -> io::Result<()> {
     let s = v.to_string();
     if s.len() > width {
         return Err(invalid(format!(

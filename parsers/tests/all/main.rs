@@ -4,6 +4,7 @@
 
 mod deck_parse;
 mod uff_errors;
+mod uff_nodal;
 mod uff_real;
 mod uff_roundtrip;
 mod uff_stream;

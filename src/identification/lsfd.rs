@@ -1,0 +1,288 @@
+//! Residues by least squares in the frequency domain (LSFD) with the poles
+//! fixed, plus an upper and a lower residual per FRF.
+//!
+//! FRF j of kind order n (receptance 0, mobility 1, accelerance 2), s = iω:
+//!
+//!   H_j(ω) ≈ sⁿ [ Σ_r ( A_jr/(s − λ_r) + Ā_jr/(s − λ̄_r) ) + U_j + L_j/s² ],
+//!
+//! A_jr complex (receptance residue, m/N/s), U_j (m/N) and L_j (m/N·rad²/s²)
+//! real: the modes above and below the band. With A = a + ib the model is
+//! linear and real in (a, b, U, L); the real and imaginary parts of every line
+//! are the rows of one design matrix shared by all FRFs (the poles are
+//! common), so one QR factorisation solves every FRF.
+
+use faer::{c64, Mat};
+
+use super::prepare::Prepared;
+use super::select::{Picked, SelectOptions};
+use super::{refine, IdentifyError};
+
+/// Upper and lower residual of one FRF (receptance terms).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Residual {
+    /// U (m/N).
+    pub upper: f64,
+    /// L (m/N·rad²/s²), the term L/s² = −L/ω².
+    pub lower: f64,
+}
+
+/// One fitted mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FitMode {
+    pub pole: c64,
+    /// Per FRF (o, i) at o·m + i.
+    pub residues: Vec<c64>,
+    pub stable_orders: usize,
+    /// Indices of its cluster's poles in the diagram.
+    pub cluster: Vec<usize>,
+    pub significance: f64,
+}
+
+/// The fit of the selected modes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fit {
+    pub modes: Vec<FitMode>,
+    pub residuals: Vec<Residual>,
+    /// RMS of the weighted residual ÷ RMS of the weighted data.
+    pub relative_residual: f64,
+}
+
+fn s_pow(s: c64, n: i32) -> c64 {
+    let mut v = c64::new(1.0, 0.0);
+    for _ in 0..n.unsigned_abs() {
+        v *= s;
+    }
+    if n < 0 {
+        v.inv()
+    } else {
+        v
+    }
+}
+
+/// The 2R + 2 complex basis functions at ω: (a, b) per pole, then U, L.
+pub(super) fn basis(poles: &[c64], omega: f64, n: i32, out: &mut Vec<c64>) {
+    out.clear();
+    let s = c64::new(0.0, omega);
+    let sn = s_pow(s, n);
+    let i = c64::new(0.0, 1.0);
+    for lam in poles {
+        let (p, q) = ((s - lam).inv(), (s - lam.conj()).inv());
+        out.push(sn * (p + q));
+        out.push(sn * i * (p - q));
+    }
+    out.push(sn);
+    out.push(sn / (s * s));
+}
+
+/// The real design matrix (rows Re, Im of each line in `lines`).
+pub(super) fn design(poles: &[c64], omega: &[f64], lines: &[usize], n: i32) -> Mat<f64> {
+    let cols = 2 * poles.len() + 2;
+    let mut a = Mat::<f64>::zeros(2 * lines.len(), cols);
+    let mut b = Vec::with_capacity(cols);
+    for (row, &k) in lines.iter().enumerate() {
+        basis(poles, omega[k], n, &mut b);
+        for (c, v) in b.iter().enumerate() {
+            a[(2 * row, c)] = v.re;
+            a[(2 * row + 1, c)] = v.im;
+        }
+    }
+    a
+}
+
+/// The data of `lines` as real right-hand sides, one column per FRF.
+pub(super) fn rhs(data: &Prepared, lines: &[usize]) -> Mat<f64> {
+    Mat::<f64>::from_fn(2 * lines.len(), data.h.len(), |r, j| {
+        let v = data.h[j][lines[r / 2]];
+        if r % 2 == 0 {
+            v.re
+        } else {
+            v.im
+        }
+    })
+}
+
+/// Least-squares coefficients of every column of `b`: minimum-norm solution
+/// by a thin SVD of `a` (columns scaled to unit norm), singular values below
+/// 10⁻¹² of the largest dropped, so that nearly dependent columns (residual
+/// terms over a narrow window) do not blow the residues up.
+pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
+    let scale: Vec<f64> = a
+        .col_iter()
+        .map(|c| {
+            let n = c.norm_l2();
+            if n > 0.0 {
+                1.0 / n
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let an = Mat::<f64>::from_fn(a.nrows(), a.ncols(), |r, c| a[(r, c)] * scale[c]);
+    let svd = an.thin_svd().map_err(|_| IdentifyError::Singular("LSFD"))?;
+    let sv = svd.S().column_vector();
+    let top = (0..sv.nrows()).map(|i| sv[i]).fold(0.0, f64::max);
+    let utb = svd.U().transpose() * b;
+    let mut y = utb;
+    for i in 0..y.nrows() {
+        let si = sv[i];
+        let inv = if si > 1e-12 * top { 1.0 / si } else { 0.0 };
+        for j in 0..y.ncols() {
+            y[(i, j)] *= inv;
+        }
+    }
+    let mut x = svd.V() * &y;
+    for (c, s) in scale.iter().enumerate() {
+        for j in 0..x.ncols() {
+            x[(c, j)] *= s;
+        }
+    }
+    if x.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
+        Ok(x)
+    } else {
+        Err(IdentifyError::Singular("LSFD"))
+    }
+}
+
+/// The fitted FRF at ω (the test's kind).
+pub fn evaluate(poles: &[c64], residues: &[c64], res: &Residual, omega: f64, n: i32) -> c64 {
+    let s = c64::new(0.0, omega);
+    let mut v = c64::new(res.upper, 0.0) + res.lower / (s * s);
+    for (lam, a) in poles.iter().zip(residues) {
+        v += a / (s - lam) + a.conj() / (s - lam.conj());
+    }
+    v * s_pow(s, n)
+}
+
+struct Solved {
+    x: Mat<f64>,
+    significance: Vec<f64>,
+    relative: f64,
+}
+
+/// Σ_j w_j² |residual_j(ω_k)|² per line k.
+fn line_residuals(data: &Prepared, a: &Mat<f64>, b: &Mat<f64>, x: &Mat<f64>) -> Vec<f64> {
+    let r = b - a * x;
+    let m = data.n_inputs();
+    (0..data.n_lines())
+        .map(|k| {
+            (0..r.ncols())
+                .map(|j| {
+                    data.weights[j / m].powi(2)
+                        * (r[(2 * k, j)].powi(2) + r[(2 * k + 1, j)].powi(2))
+                })
+                .sum()
+        })
+        .collect()
+}
+
+/// Significance of mode r: its largest weighted contribution over FRFs and
+/// lines ÷ the RMS of the weighted fit residual on the lines within
+/// `WINDOW` half-bandwidths of it (where a spurious pole would fit noise,
+/// and where a missing neighbour does not count against it).
+const WINDOW: f64 = 8.0;
+
+fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
+    let all: Vec<usize> = (0..data.n_lines()).collect();
+    let a = design(poles, &data.omega, &all, data.kind_order);
+    let b = rhs(data, &all);
+    let x = solve(&a, &b)?;
+    let per_line = line_residuals(data, &a, &b, &x);
+    let cost: f64 = per_line.iter().sum();
+    let m = data.n_inputs();
+    let nj = data.h.len() as f64;
+    let total: f64 = (0..b.ncols())
+        .map(|j| data.weights[j / m].powi(2) * b.col(j).squared_norm_l2())
+        .sum();
+    let n = data.n_lines();
+    let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
+    let significance = (0..poles.len())
+        .map(|r| {
+            // The contribution peaks within its window: only those lines.
+            let half = WINDOW * (-poles[r].re).max(line);
+            let near: Vec<usize> = (0..n)
+                .filter(|&k| (data.omega[k] - poles[r].im).abs() <= half)
+                .collect();
+            let mut peak: f64 = 0.0;
+            for j in 0..data.h.len() {
+                let res = c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]);
+                let w = data.weights[j / m];
+                for &k in &near {
+                    let one = [poles[r]];
+                    let v = evaluate(
+                        &one,
+                        &[res],
+                        &Residual::default(),
+                        data.omega[k],
+                        data.kind_order,
+                    );
+                    peak = peak.max(w * v.norm());
+                }
+            }
+            let ss: f64 = near.iter().map(|&k| per_line[k]).sum();
+            let rms = (ss / (near.len().max(1) as f64 * nj)).sqrt();
+            peak / rms.max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    Ok(Solved {
+        x,
+        significance,
+        relative: (cost / total.max(f64::MIN_POSITIVE)).sqrt(),
+    })
+}
+
+/// Fits the picked poles (refined first when `refine`), dropping every mode
+/// below `opts.min_significance` and refitting until none is.
+pub fn fit_modes(
+    data: &Prepared,
+    picked: &[Picked],
+    refine_poles: bool,
+    opts: &SelectOptions,
+) -> Result<Fit, IdentifyError> {
+    let mut poles: Vec<c64> = picked.iter().map(|p| p.pole).collect();
+    let mut orders: Vec<usize> = picked.iter().map(|p| p.stable_orders).collect();
+    let mut clusters: Vec<Vec<usize>> = picked.iter().map(|p| p.cluster.clone()).collect();
+    if refine_poles && !poles.is_empty() {
+        poles = refine::refine(data, &poles)?;
+    }
+    loop {
+        let solved = fit_once(data, &poles)?;
+        let keep: Vec<bool> = solved
+            .significance
+            .iter()
+            .map(|s| *s >= opts.min_significance)
+            .collect();
+        if keep.iter().any(|k| !k) {
+            let mut k = keep.iter();
+            poles.retain(|_| *k.next().unwrap());
+            let mut k = keep.iter();
+            orders.retain(|_| *k.next().unwrap());
+            let mut k = keep.iter();
+            clusters.retain(|_| *k.next().unwrap());
+            continue;
+        }
+        let nr = poles.len();
+        let x = &solved.x;
+        let modes = (0..nr)
+            .map(|r| FitMode {
+                pole: poles[r],
+                residues: (0..x.ncols())
+                    .map(|j| c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]))
+                    .collect(),
+                stable_orders: orders[r],
+                cluster: clusters[r].clone(),
+                significance: solved.significance[r],
+            })
+            .collect();
+        let residuals = (0..x.ncols())
+            .map(|j| Residual {
+                upper: x[(2 * nr, j)],
+                lower: x[(2 * nr + 1, j)],
+            })
+            .collect();
+        return Ok(Fit {
+            modes,
+            residuals,
+            relative_residual: solved.relative,
+        });
+    }
+}

@@ -1,0 +1,238 @@
+//! The FRFs of the band arranged for the fit: outputs × inputs per line,
+//! with one weight per output.
+
+use faer::c64;
+
+use super::IdentifyError;
+use crate::testdata::MeasuredFrfs;
+
+const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
+
+/// A measured degree of freedom: node and UFF direction code ±1..±6.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Dof {
+    pub node: i64,
+    pub direction: i32,
+}
+
+/// The FRFs of the band as an n_o × n_i matrix per line.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    /// Lines of the band (Hz), ascending, all > 0.
+    pub frequencies_hz: Vec<f64>,
+    /// The same as ω = 2πf (rad/s).
+    pub omega: Vec<f64>,
+    /// Index in the test of the band's first line.
+    pub first_line: usize,
+    /// Power n of iω that turns receptance into the test's kind (0, 1, 2).
+    pub kind_order: i32,
+    pub outputs: Vec<Dof>,
+    pub inputs: Vec<Dof>,
+    /// Test channel of FRF (o, i), at `o * inputs.len() + i`.
+    pub channels: Vec<usize>,
+    /// FRF (o, i) over the band, at `o * inputs.len() + i`.
+    pub h: Vec<Vec<c64>>,
+    /// 1 / RMS of output o's FRFs over the band.
+    pub weights: Vec<f64>,
+    /// Test channels left out (a reference that not every output has).
+    pub left_out: Vec<usize>,
+}
+
+impl Prepared {
+    pub fn n_outputs(&self) -> usize {
+        self.outputs.len()
+    }
+    pub fn n_inputs(&self) -> usize {
+        self.inputs.len()
+    }
+    pub fn n_lines(&self) -> usize {
+        self.omega.len()
+    }
+}
+
+/// The references to fit together: all of them when every response is
+/// measured for each, else the one with most channels.
+fn chosen_inputs(test: &MeasuredFrfs) -> Vec<Dof> {
+    let mut inputs: Vec<Dof> = Vec::new();
+    let mut outputs: Vec<Dof> = Vec::new();
+    for ch in &test.channels {
+        let i = Dof {
+            node: ch.reference_node,
+            direction: ch.reference_direction,
+        };
+        let o = Dof {
+            node: ch.response_node,
+            direction: ch.response_direction,
+        };
+        if !inputs.contains(&i) {
+            inputs.push(i);
+        }
+        if !outputs.contains(&o) {
+            outputs.push(o);
+        }
+    }
+    if test.channels.len() == inputs.len() * outputs.len() || inputs.len() <= 1 {
+        return inputs;
+    }
+    let count = |d: &Dof| {
+        test.channels
+            .iter()
+            .filter(|c| c.reference_node == d.node && c.reference_direction == d.direction)
+            .count()
+    };
+    let best = inputs
+        .iter()
+        .copied()
+        .max_by_key(|d| (count(d), std::cmp::Reverse(*d)))
+        .expect("at least one input");
+    vec![best]
+}
+
+/// Arranges `test` for the fit over `band_hz` (all lines when `None`).
+pub fn prepare(
+    test: &MeasuredFrfs,
+    band_hz: Option<(f64, f64)>,
+) -> Result<Prepared, IdentifyError> {
+    if test.channels.is_empty() {
+        return Err(IdentifyError::NotEnoughData("the test has no FRF".into()));
+    }
+    let (f0, f1) = band_hz.unwrap_or((f64::MIN_POSITIVE, f64::INFINITY));
+    if !(f0 < f1) {
+        return Err(IdentifyError::BadOption(format!(
+            "band {f0}:{f1} Hz is empty"
+        )));
+    }
+    let lines: Vec<usize> = (0..test.frequencies_hz.len())
+        .filter(|&k| {
+            let f = test.frequencies_hz[k];
+            f > 0.0 && f >= f0 && f <= f1
+        })
+        .collect();
+    if lines.len() < 8 {
+        return Err(IdentifyError::NotEnoughData(format!(
+            "{} line(s) above 0 Hz in the band; the fit needs at least 8",
+            lines.len()
+        )));
+    }
+    let inputs = chosen_inputs(test);
+    let mut outputs: Vec<Dof> = Vec::new();
+    let mut left_out = Vec::new();
+    let mut by_dof: Vec<(Dof, Dof, usize)> = Vec::new();
+    for (c, ch) in test.channels.iter().enumerate() {
+        let i = Dof {
+            node: ch.reference_node,
+            direction: ch.reference_direction,
+        };
+        if !inputs.contains(&i) {
+            left_out.push(c);
+            continue;
+        }
+        let o = Dof {
+            node: ch.response_node,
+            direction: ch.response_direction,
+        };
+        if by_dof.iter().any(|(oo, ii, _)| *oo == o && *ii == i) {
+            left_out.push(c);
+            continue;
+        }
+        if !outputs.contains(&o) {
+            outputs.push(o);
+        }
+        by_dof.push((o, i, c));
+    }
+    let m = inputs.len();
+    let mut channels = vec![usize::MAX; outputs.len() * m];
+    for (o, i, c) in by_dof {
+        let oi = outputs.iter().position(|d| *d == o).unwrap();
+        let ii = inputs.iter().position(|d| *d == i).unwrap();
+        channels[oi * m + ii] = c;
+    }
+    let (lo, hi) = (lines[0], lines[lines.len() - 1]);
+    if lines.len() != hi - lo + 1 {
+        return Err(IdentifyError::NotEnoughData(
+            "band lines are not contiguous".into(),
+        ));
+    }
+    let h: Vec<Vec<c64>> = channels
+        .iter()
+        .map(|&c| test.channels[c].values[lo..=hi].to_vec())
+        .collect();
+    let weights = (0..outputs.len())
+        .map(|o| {
+            let ss: f64 = h[o * m..(o + 1) * m]
+                .iter()
+                .flat_map(|v| v.iter().map(|x| x.norm_sqr()))
+                .sum();
+            let rms = (ss / (m * lines.len()) as f64).sqrt();
+            if rms > 0.0 && rms.is_finite() {
+                1.0 / rms
+            } else {
+                0.0
+            }
+        })
+        .collect::<Vec<f64>>();
+    if weights.iter().all(|&w| w == 0.0) {
+        return Err(IdentifyError::NotEnoughData(
+            "every FRF is zero in the band".into(),
+        ));
+    }
+    let frequencies_hz = test.frequencies_hz[lo..=hi].to_vec();
+    Ok(Prepared {
+        omega: frequencies_hz.iter().map(|f| TWO_PI * f).collect(),
+        frequencies_hz,
+        first_line: lo,
+        kind_order: test.kind.order(),
+        outputs,
+        inputs,
+        channels,
+        h,
+        weights,
+        left_out,
+    })
+}
+
+/// The weighted sum of |H| over every FRF, per line: the mode indicator the
+/// stabilisation chart is drawn over.
+pub fn summed_magnitude(data: &Prepared) -> Vec<f64> {
+    let m = data.n_inputs();
+    let mut s = vec![0.0; data.n_lines()];
+    for (j, h) in data.h.iter().enumerate() {
+        let w = data.weights[j / m];
+        for (sk, v) in s.iter_mut().zip(h) {
+            *sk += w * v.norm();
+        }
+    }
+    s
+}
+
+/// Highest model order by default: two poles per peak of the summed FRF
+/// (a peak may hide two modes) twice over, plus 16 for the residual terms,
+/// at least 64, per reference, between 24 and 100. At least 64 because the
+/// computational poles that fit a band's mass and stiffness lines take
+/// their share of the order first: in the benchmark (scripts/
+/// bench_identify.sh) modes below 30 Hz of a 250 Hz band stabilised only
+/// from order 25–30, too late to be kept at a maximum of 32, and all were
+/// found at 64. A peak is the largest value within ±w
+/// lines standing 25 % above the smallest within ±5w, by at least a fifth
+/// of the median (noise ripples in anti-resonances do not); w = 3 lines, or
+/// 1/300 of the band on long records.
+pub fn default_max_order(data: &Prepared) -> usize {
+    let s = summed_magnitude(data);
+    let n = s.len();
+    let mut sorted = s.clone();
+    sorted.sort_by(f64::total_cmp);
+    let median = sorted[n / 2];
+    let w = (n / 300).max(3);
+    let window = |k: usize, w: usize| &s[k.saturating_sub(w)..(k + w + 1).min(n)];
+    let peaks = (0..n)
+        .filter(|&k| {
+            let near = window(k, w).iter().fold(0.0f64, |a, &b| a.max(b));
+            let low = window(k, 5 * w)
+                .iter()
+                .fold(f64::INFINITY, |a, &b| a.min(b));
+            s[k] >= near && s[k] > 1.25 * low && s[k] - low > 0.2 * median
+        })
+        .count();
+    let m = data.n_inputs().max(1);
+    ((4 * peaks + 16).max(64) / m).clamp(24, 100)
+}

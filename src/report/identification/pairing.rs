@@ -1,0 +1,103 @@
+//! Test modes paired with a deck's FE modes by MAC at the measured DOFs.
+
+use frfup_parsers::deck::Deck;
+
+use crate::identification::Identification;
+use crate::model::{self, ParameterValues};
+use crate::solvers::eigen::{lowest_modes, EigenOptions};
+
+/// Least MAC of a pair.
+pub const PAIR_MAC: f64 = 0.5;
+
+/// The FE modes against the test modes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pairing {
+    pub fe_frequencies_hz: Vec<f64>,
+    /// MAC[test mode][FE mode] at the DOFs both have.
+    pub mac: Vec<Vec<f64>>,
+    /// (test mode, FE mode), each used once, MAC ≥ [`PAIR_MAC`], best first.
+    pub pairs: Vec<(usize, usize)>,
+    /// Measured outputs the deck has.
+    pub common_dofs: usize,
+}
+
+/// MAC of a complex test shape with a real FE shape.
+fn mac(psi: &[faer::c64], phi: &[f64]) -> f64 {
+    let mut dot = faer::c64::new(0.0, 0.0);
+    for (a, b) in psi.iter().zip(phi) {
+        dot += a.conj() * b;
+    }
+    let aa: f64 = psi.iter().map(|v| v.norm_sqr()).sum();
+    let bb: f64 = phi.iter().map(|v| v * v).sum();
+    if aa > 0.0 && bb > 0.0 {
+        dot.norm_sqr() / (aa * bb)
+    } else {
+        0.0
+    }
+}
+
+/// Solves the deck's lowest modes and pairs them with `id`'s modes.
+pub fn pair_with_deck(deck: &Deck, id: &Identification) -> Result<Pairing, String> {
+    let fe = model::build(deck, &ParameterValues::new()).map_err(|e| e.to_string())?;
+    model::check_mass(&fe).map_err(|e| e.to_string())?;
+    let mut rows = Vec::new();
+    let mut signs = Vec::new();
+    let mut used = Vec::new();
+    for (o, d) in id.data.outputs.iter().enumerate() {
+        let node = u32::try_from(d.node).ok();
+        if let Some((eq, sign)) = node.and_then(|n| fe.measured_dof(n, d.direction)) {
+            rows.push(eq);
+            signs.push(sign);
+            used.push(o);
+        }
+    }
+    if used.len() < 2 {
+        return Err(format!(
+            "the deck has {} of the {} measured DOFs; MAC needs at least 2",
+            used.len(),
+            id.data.outputs.len()
+        ));
+    }
+    let count = (2 * id.modes.len() + 6).max(10);
+    let modes = lowest_modes(
+        &fe.stiffness,
+        &fe.mass,
+        &EigenOptions {
+            count,
+            expect_no_rigid_body_modes: fe.has_fixed_dofs,
+            ..EigenOptions::default()
+        },
+    )
+    .map_err(|e| e.to_string())?;
+    let fe_shapes: Vec<Vec<f64>> = modes
+        .at(&rows)
+        .into_iter()
+        .map(|v| v.iter().zip(&signs).map(|(x, s)| x * s).collect())
+        .collect();
+    let mac_m: Vec<Vec<f64>> = id
+        .modes
+        .iter()
+        .map(|m| {
+            let psi: Vec<faer::c64> = used.iter().map(|&o| m.shape[o]).collect();
+            fe_shapes.iter().map(|phi| mac(&psi, phi)).collect()
+        })
+        .collect();
+    let mut cells: Vec<(usize, usize)> = (0..mac_m.len())
+        .flat_map(|t| (0..fe_shapes.len()).map(move |f| (t, f)))
+        .filter(|&(t, f)| mac_m[t][f] >= PAIR_MAC)
+        .collect();
+    cells.sort_by(|a, b| mac_m[b.0][b.1].total_cmp(&mac_m[a.0][a.1]));
+    let mut pairs: Vec<(usize, usize)> = Vec::new();
+    for (t, f) in cells {
+        if pairs.iter().all(|p| p.0 != t && p.1 != f) {
+            pairs.push((t, f));
+        }
+    }
+    pairs.sort();
+    Ok(Pairing {
+        fe_frequencies_hz: modes.frequencies_hz(),
+        mac: mac_m,
+        pairs,
+        common_dofs: used.len(),
+    })
+}
