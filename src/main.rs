@@ -79,8 +79,10 @@ struct DemoArgs {
     /// then the files of `update`: report.html, report.md, report.json,
     /// estimates.csv, parameters.csv, iterations.csv, frequencies.csv,
     /// resonances.csv, updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv,
-    /// updated.deck, convergence.svg, frequencies.svg, sfdac.svg, mac.svg,
-    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
+    /// shapes.csv and modes.uff (test and FE mode shapes at the measured
+    /// DOFs, UFF 15/82/55), updated.deck, convergence.svg, frequencies.svg,
+    /// sfdac.svg, mac.svg, frf-overlay.svg and frf/NN-CHANNEL.svg (one chart
+    /// per channel).
     #[arg(long, default_value = "frfup-demo")]
     out: PathBuf,
 }
@@ -127,6 +129,15 @@ struct ModesArgs {
     /// Also write the table to this CSV file (mode,frequency_hz,generalised_mass_kg).
     #[arg(long)]
     csv: Option<PathBuf>,
+    /// Also write the mode shapes to this CSV file: one row per node and
+    /// direction (x, y, z), one column per mode (mass-normalised).
+    #[arg(long, value_name = "FILE")]
+    shapes: Option<PathBuf>,
+    /// Also write the modes for a modal viewer to this UFF file: the deck's
+    /// nodes (dataset 15), its beams as a trace line (82), and one normal
+    /// mode per dataset 55 (three translations per node).
+    #[arg(long, value_name = "FILE")]
+    uff: Option<PathBuf>,
     /// Parameter values NAME=P (relative change: value = (1 + P) x deck value).
     #[arg(long = "set", value_name = "NAME=VALUE")]
     set: Vec<String>,
@@ -189,9 +200,10 @@ struct UpdateArgs {
     /// Output folder (created; replaced as a whole): report.html, report.md,
     /// report.json, estimates.csv (robust only), parameters.csv,
     /// iterations.csv, frequencies.csv, resonances.csv,
-    /// updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv, updated.deck,
-    /// convergence.svg, frequencies.svg, sfdac.svg, mac.svg, frf-overlay.svg
-    /// and frf/NN-CHANNEL.svg (one chart per channel).
+    /// updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv, shapes.csv and
+    /// modes.uff (test and FE mode shapes at the measured DOFs, UFF
+    /// 15/82/55), updated.deck, convergence.svg, frequencies.svg, sfdac.svg,
+    /// mac.svg, frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
     /// Print a JSON summary on stdout (the main keys of report.json) instead of text.
@@ -398,6 +410,8 @@ fn modes(a: ModesArgs) -> Result<(), CommandError> {
         deck: a.deck.clone(),
         count: a.count,
         csv: a.csv,
+        shapes: a.shapes,
+        uff: a.uff,
         values,
     })?;
     if a.json {

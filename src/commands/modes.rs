@@ -1,10 +1,12 @@
-//! `frfup modes MODEL.deck [--count N] [--csv FILE] [--set NAME=VALUE ...]`.
+//! `frfup modes MODEL.deck [--count N] [--csv FILE] [--shapes FILE] [--uff FILE]
+//! [--set NAME=VALUE ...]`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::fsio::write_atomic;
 use crate::model::{self, ParameterValues};
+use crate::report::shapes;
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
 use crate::tasks::{eigen_error, model_error, read_deck, CommandError};
 
@@ -14,6 +16,10 @@ pub struct ModesOptions {
     pub deck: PathBuf,
     pub count: usize,
     pub csv: Option<PathBuf>,
+    /// `--shapes`: the shapes as CSV.
+    pub shapes: Option<PathBuf>,
+    /// `--uff`: geometry and modes as UFF 15, 82 and 55.
+    pub uff: Option<PathBuf>,
     pub values: ParameterValues,
 }
 
@@ -43,6 +49,7 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
         },
     )
     .map_err(|e| eigen_error(&opts.deck, &fe, e))?;
+    write_shapes(opts, &deck, &fe, &modes)?;
     let translational: Vec<bool> = fe
         .dofs
         .equations
@@ -74,6 +81,29 @@ pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
             }
         })
         .collect())
+}
+
+/// `--shapes` and `--uff`, if asked for.
+fn write_shapes(
+    opts: &ModesOptions,
+    deck: &frfup_parsers::deck::Deck,
+    fe: &model::FeModel,
+    modes: &crate::solvers::eigen::Modes,
+) -> Result<(), CommandError> {
+    if opts.shapes.is_none() && opts.uff.is_none() {
+        return Ok(());
+    }
+    let set = shapes::fe_modes(deck, fe, modes, &opts.deck.display().to_string());
+    if let Some(path) = &opts.shapes {
+        write_atomic(path, shapes::shapes_csv(&[&set]).as_bytes())
+            .map_err(|e| CommandError::output(path, e))?;
+    }
+    if let Some(path) = &opts.uff {
+        let mut bytes = shapes::geometry_uff(deck).map_err(|e| CommandError::output(path, e))?;
+        bytes.extend(shapes::modes_uff(&set).map_err(|e| CommandError::output(path, e))?);
+        write_atomic(path, &bytes).map_err(|e| CommandError::output(path, e))?;
+    }
+    Ok(())
 }
 
 /// The table printed by `frfup modes`.

@@ -20,6 +20,7 @@ pub mod html;
 pub mod identification;
 pub mod output;
 pub mod prose;
+pub mod shapes;
 pub mod status;
 pub mod tables;
 
@@ -154,6 +155,7 @@ pub fn render_report(
     ));
     files.push(("mac.csv".into(), tables::mac_csv(&data).into_bytes()));
     files.push(("frf.csv".into(), tables::frf_csv(&data).into_bytes()));
+    files.extend(shape_files(result, states, deck, inputs)?);
     let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     listed.extend(
         [
@@ -171,6 +173,67 @@ pub fn render_report(
     let page = html::report_html(result, deck, test, inputs, &data, &embedded, &listed);
     files.push(("report.html".into(), page.into_bytes()));
     Ok(RenderedReport { files, data })
+}
+
+/// `shapes.csv` and `modes.uff` (geometry, then the test's modes and the
+/// updated model's at the measured DOFs), when the test maps onto the model.
+fn shape_files(
+    result: &UpdateResult,
+    states: &ModelStates,
+    deck: &Deck,
+    inputs: &ReportInputs,
+) -> Result<Vec<(String, Vec<u8>)>, ReportError> {
+    let Some(meas) = &states.measured else {
+        return Ok(Vec::new());
+    };
+    let found = &result.test_resonances;
+    let (kind, test_shapes) = match &found.shapes {
+        Some(s) => ("test mode (fitted)", s.clone()),
+        None => (
+            "test ODS",
+            found
+                .peaks
+                .iter()
+                .map(|r| meas.deflection_shape(r.line))
+                .collect(),
+        ),
+    };
+    let test_hz: Vec<f64> = found.peaks.iter().map(|r| r.frequency_hz).collect();
+    let zeta: Vec<f64> = found
+        .peaks
+        .iter()
+        .map(|r| r.damping_ratio.unwrap_or(0.0))
+        .collect();
+    let test = shapes::at_points(
+        kind,
+        &inputs.test_path,
+        &test_hz,
+        Some(zeta),
+        &meas.points,
+        &test_shapes,
+    );
+    let fe = shapes::at_points(
+        "updated FE mode",
+        &inputs.deck_path,
+        &states.updated.modes_hz,
+        None,
+        &meas.points,
+        &states.updated.shapes,
+    );
+    let io = |name: &str, source| ReportError::Io {
+        path: PathBuf::from(name),
+        source,
+    };
+    let mut uff = shapes::geometry_uff(deck).map_err(|e| io("modes.uff", e))?;
+    uff.extend(shapes::modes_uff(&test).map_err(|e| io("modes.uff", e))?);
+    uff.extend(shapes::modes_uff(&fe).map_err(|e| io("modes.uff", e))?);
+    Ok(vec![
+        (
+            "shapes.csv".into(),
+            shapes::shapes_csv(&[&test, &fe]).into_bytes(),
+        ),
+        ("modes.uff".into(), uff),
+    ])
 }
 
 /// Write the report of `result` into `dir` (created if missing): the charts

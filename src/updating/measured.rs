@@ -20,6 +20,9 @@ pub struct MeasuredDofs {
     pub equations: Vec<usize>,
     /// Labels `NODE±dir` of the test channels used.
     pub labels: Vec<String>,
+    /// Node and FE DOF of each measured DOF (the values above are in the
+    /// FE DOF's sense).
+    pub points: Vec<(u32, crate::model::Dof)>,
     /// Row of the excitation DOF among the measured DOFs.
     pub excitation_row: usize,
     pub excitation_label: String,
@@ -87,6 +90,7 @@ impl MeasuredDofs {
         let mut out = MeasuredDofs {
             equations: Vec::new(),
             labels: Vec::new(),
+            points: Vec::new(),
             excitation_row: 0,
             excitation_label: excitation_label.clone(),
             lines_hz: test.frequencies_hz.clone(),
@@ -111,6 +115,7 @@ impl MeasuredDofs {
             let s = sign * ex_sign;
             out.equations.push(eq);
             out.labels.push(label);
+            out.points.push(model.dofs.equations[eq]);
             out.signed_real
                 .push(real[c].iter().map(|v| s * v).collect());
             out.receptance.push(

@@ -20,6 +20,7 @@ mod cli_json;
 mod cli_mac;
 mod cli_model;
 mod cli_progress;
+mod cli_shapes;
 mod cli_uff;
 mod diagnose_cases;
 mod hostile_inputs;

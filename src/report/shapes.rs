@@ -1,0 +1,229 @@
+//! Mode shapes out of the program, for any modal viewer: the deck's geometry
+//! as UFF 15 (nodes) and UFF 82 (one trace line through every beam), modes
+//! as UFF 55 (normal modes: frequency, unit modal mass, viscous damping
+//! ratio; three real translations per node, in the global axes), and the
+//! same shapes as CSV (one row per node and direction, one column per mode).
+
+use frfup_parsers::deck::Deck;
+use frfup_parsers::uff::{self, NodalData55, NodeValues, Ordinate, TraceLine};
+
+use crate::fsio::csv_number;
+use crate::model::{Dof, FeModel};
+use crate::report::tables::csv_text;
+use crate::solvers::eigen::Modes;
+
+/// Modes as translations at nodes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodalModes {
+    /// What the modes are, e.g. "FE mode" or "test mode (fitted)".
+    pub kind: String,
+    /// Where they come from (a file name), for the UFF id lines.
+    pub source: String,
+    pub frequencies_hz: Vec<f64>,
+    /// Viscous damping ratio of each mode, when known.
+    pub damping_ratios: Option<Vec<f64>>,
+    /// Node ids, ascending.
+    pub nodes: Vec<u32>,
+    /// [mode][node] translations (x, y, z); 0 where the shape is not known.
+    pub values: Vec<Vec<[f64; 3]>>,
+    /// [node]: which of x, y, z the shapes know (the CSV leaves the others
+    /// empty; UFF 55 has no such mark and carries 0).
+    pub known: Vec<[bool; 3]>,
+}
+
+fn axis(d: Dof) -> Option<usize> {
+    match d {
+        Dof::X => Some(0),
+        Dof::Y => Some(1),
+        Dof::Z => Some(2),
+        _ => None,
+    }
+}
+
+/// `shapes` ([mode][point]) at the translational `points` (node, FE DOF),
+/// one entry per distinct node.
+pub fn at_points(
+    kind: &str,
+    source: &str,
+    frequencies_hz: &[f64],
+    damping_ratios: Option<Vec<f64>>,
+    points: &[(u32, Dof)],
+    shapes: &[Vec<f64>],
+) -> NodalModes {
+    let mut nodes: Vec<u32> = points
+        .iter()
+        .filter(|(_, d)| axis(*d).is_some())
+        .map(|(n, _)| *n)
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let mut known = vec![[false; 3]; nodes.len()];
+    for (n, d) in points {
+        if let (Some(a), Ok(i)) = (axis(*d), nodes.binary_search(n)) {
+            known[i][a] = true;
+        }
+    }
+    let values = shapes
+        .iter()
+        .map(|shape| {
+            let mut v = vec![[0.0; 3]; nodes.len()];
+            for (k, (n, d)) in points.iter().enumerate() {
+                if let (Some(a), Ok(i)) = (axis(*d), nodes.binary_search(n)) {
+                    v[i][a] = shape.get(k).copied().unwrap_or(0.0);
+                }
+            }
+            v
+        })
+        .collect();
+    NodalModes {
+        kind: kind.into(),
+        source: source.into(),
+        frequencies_hz: frequencies_hz[..shapes.len().min(frequencies_hz.len())].to_vec(),
+        damping_ratios,
+        nodes,
+        values,
+        known,
+    }
+}
+
+/// The FE modes at every node of the deck (fixed DOFs 0), mass-normalised.
+pub fn fe_modes(deck: &Deck, fe: &FeModel, modes: &Modes, source: &str) -> NodalModes {
+    let points: Vec<(u32, Dof)> = fe.dofs.equations.clone();
+    let eqs: Vec<usize> = (0..points.len()).collect();
+    let mut set = at_points(
+        "FE mode",
+        source,
+        &modes.frequencies_hz(),
+        None,
+        &points,
+        &modes.at(&eqs),
+    );
+    // Nodes with no free translation (clamped) still belong to the picture.
+    let mut all: Vec<u32> = deck.nodes.iter().map(|n| n.id).collect();
+    all.sort_unstable();
+    // A fixed translation is known: it is 0.
+    set.known = vec![[true; 3]; all.len()];
+    for v in &mut set.values {
+        *v = all
+            .iter()
+            .map(|n| match set.nodes.binary_search(n) {
+                Ok(i) => v[i],
+                Err(_) => [0.0; 3],
+            })
+            .collect();
+    }
+    set.nodes = all;
+    set
+}
+
+/// UFF 15 (every node of the deck) and UFF 82 (the beams as one trace line,
+/// the pen lifted between beams that do not continue each other).
+pub fn geometry_uff(deck: &Deck) -> std::io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    let nodes: Vec<uff::Node> = deck
+        .nodes
+        .iter()
+        .map(|n| uff::Node {
+            label: i64::from(n.id),
+            definition_cs: 0,
+            displacement_cs: 0,
+            color: 8,
+            coordinates: n.xyz,
+        })
+        .collect();
+    uff::write_nodes15(&mut out, &nodes)?;
+    let mut line: Vec<i64> = Vec::new();
+    for b in &deck.beams {
+        let [a, c] = b.nodes.map(i64::from);
+        if line.last() != Some(&a) {
+            if !line.is_empty() {
+                line.push(0);
+            }
+            line.push(a);
+        }
+        line.push(c);
+    }
+    if !line.is_empty() {
+        let trace = TraceLine {
+            number: 1,
+            color: 8,
+            id: format!("{}: beams", deck.title()),
+            nodes: line,
+        };
+        uff::write_trace_line82(&mut out, &trace)?;
+    }
+    Ok(out)
+}
+
+/// One UFF 55 dataset per mode.
+pub fn modes_uff(set: &NodalModes) -> std::io::Result<Vec<u8>> {
+    let mut out = Vec::new();
+    for (r, values) in set.values.iter().enumerate() {
+        let f = set.frequencies_hz.get(r).copied().unwrap_or(0.0);
+        let zeta = set
+            .damping_ratios
+            .as_ref()
+            .and_then(|z| z.get(r).copied())
+            .unwrap_or(0.0);
+        let d = NodalData55 {
+            id_lines: [
+                format!("{} {}", set.kind, r + 1),
+                format!("frfup {}", env!("CARGO_PKG_VERSION")),
+                format!("from {}", set.source),
+                format!("f = {f:.6} Hz, damping ratio = {zeta:.6}"),
+                "NONE".into(),
+            ],
+            model_type: 1,
+            analysis_type: 2,
+            data_characteristic: 2,
+            specific_data_type: 8,
+            data_type: 2,
+            values_per_node: 3,
+            integers: vec![1, r as i64 + 1],
+            reals: vec![f, 1.0, zeta, 0.0],
+            nodes: set
+                .nodes
+                .iter()
+                .zip(values)
+                .map(|(&n, v)| NodeValues {
+                    node: i64::from(n),
+                    values: Ordinate::Real(v.to_vec()),
+                })
+                .collect(),
+        };
+        uff::write_nodal_data(&mut out, &d)?;
+    }
+    Ok(out)
+}
+
+/// The shapes as CSV: `node`, `direction`, then one column per mode named by
+/// its kind, number and frequency (`FE mode 1 (12.345 Hz)`).
+pub fn shapes_csv(sets: &[&NodalModes]) -> String {
+    let mut header = vec!["node".to_string(), "direction".to_string()];
+    for set in sets {
+        for (r, f) in set.frequencies_hz.iter().enumerate().take(set.values.len()) {
+            header.push(format!("{} {} ({f:.3} Hz)", set.kind, r + 1));
+        }
+    }
+    let mut nodes: Vec<u32> = sets.iter().flat_map(|s| s.nodes.clone()).collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    let mut rows = Vec::new();
+    for n in nodes {
+        for (a, name) in ["x", "y", "z"].iter().enumerate() {
+            let mut row = vec![n.to_string(), name.to_string()];
+            for set in sets {
+                let i = set
+                    .nodes
+                    .binary_search(&n)
+                    .ok()
+                    .filter(|&i| set.known[i][a]);
+                for v in &set.values {
+                    row.push(i.map_or(String::new(), |i| csv_number(v[i][a])));
+                }
+            }
+            rows.push(row);
+        }
+    }
+    csv_text(std::iter::once(header).chain(rows))
+}
