@@ -3,40 +3,14 @@
 //! the truth deck's, the files, UFF 55 read back by our reader and by pyuff,
 //! and bad input refused with exit 2.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 
+use crate::cli_support::{csv_rows, fixture, frfup, scratch};
 use frfup_parsers::uff::{self, Dataset, OtherKind};
 
-fn frfup(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
-
-fn fixture(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(rel)
-        .to_string_lossy()
-        .into_owned()
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-identify-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-/// The rows of a CSV file as fields, header first.
-fn csv_rows(path: &Path) -> Vec<Vec<String>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
+    scratch("identify", name)
 }
 
 /// The `joint` campaign: 5 modes in band; the truth deck made it.

@@ -1,28 +1,10 @@
 //! `frfup modes` and `frfup simulate` end to end, against closed-form answers.
 
+use crate::cli_support::{fixture, frfup, scratch};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn frfup(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
-
-fn fixture(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(rel)
-        .to_string_lossy()
-        .into_owned()
-}
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-model-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    scratch("model", name)
 }
 
 /// Closed-form cantilever frequencies f_r = (β_r L)² / (2π L²) √(EI / ρA).

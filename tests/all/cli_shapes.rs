@@ -7,36 +7,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::cli_support::{csv_rows, fixture, frfup, scratch};
 use frfup_parsers::uff::{self, Dataset, NodalData55, OtherKind};
 
-fn frfup(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
-
-fn fixture(rel: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("fixtures")
-        .join(rel)
-        .to_string_lossy()
-        .into_owned()
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-shapes-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
-}
-
-fn csv_rows(path: &Path) -> Vec<Vec<String>> {
-    std::fs::read_to_string(path)
-        .unwrap()
-        .lines()
-        .map(|l| l.split(',').map(str::to_string).collect())
-        .collect()
+    scratch("shapes", name)
 }
 
 /// The datasets of a UFF file: (dataset number, its nodal data if 55).

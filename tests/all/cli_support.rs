@@ -69,6 +69,23 @@ pub fn cantilever_case(dir: &Path) -> (String, String) {
     )
 }
 
+/// A path `name` in this process's scratch folder for the tests of `module`
+/// (created; files of one module share it, so names must differ).
+pub fn scratch(module: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("frfup-cli-{module}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// The rows of a CSV file as fields, header first (no quoted commas).
+pub fn csv_rows(path: &Path) -> Vec<Vec<String>> {
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
 /// A JSON file.
 pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

@@ -2,29 +2,19 @@
 //! fixtures in fixtures/uff-real, exit codes and messages on bad input, no partial output.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+use crate::cli_support::{frfup, scratch};
 use faer::c64;
 use frfup::testdata::{self, Channel, FrfKind, MeasuredFrfs};
+
+fn tmp(name: &str) -> PathBuf {
+    scratch("uff", name)
+}
 
 fn shared(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("fixtures/uff-real")
         .join(rel)
-}
-
-fn frfup(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-uff-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
 }
 
 #[test]
