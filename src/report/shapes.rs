@@ -165,35 +165,51 @@ pub fn modes_uff(set: &NodalModes) -> std::io::Result<Vec<u8>> {
             .as_ref()
             .and_then(|z| z.get(r).copied())
             .unwrap_or(0.0);
-        let d = NodalData55 {
-            id_lines: [
-                format!("{} {}", set.kind, r + 1),
-                format!("frfup {}", env!("CARGO_PKG_VERSION")),
-                format!("from {}", set.source),
-                format!("f = {f:.6} Hz, damping ratio = {zeta:.6}"),
-                "NONE".into(),
-            ],
-            model_type: 1,
-            analysis_type: 2,
-            data_characteristic: 2,
-            specific_data_type: 8,
-            data_type: 2,
-            values_per_node: 3,
-            integers: vec![1, r as i64 + 1],
-            reals: vec![f, 1.0, zeta, 0.0],
-            nodes: set
-                .nodes
-                .iter()
-                .zip(values)
-                .map(|(&n, v)| NodeValues {
-                    node: i64::from(n),
-                    values: Ordinate::Real(v.to_vec()),
-                })
-                .collect(),
-        };
+        let id_lines = [
+            format!("{} {}", set.kind, r + 1),
+            format!("frfup {}", env!("CARGO_PKG_VERSION")),
+            format!("from {}", set.source),
+            format!("f = {f:.6} Hz, damping ratio = {zeta:.6}"),
+            "NONE".into(),
+        ];
+        let nodes = set
+            .nodes
+            .iter()
+            .zip(values)
+            .map(|(&n, v)| (i64::from(n), *v));
+        let d = normal_mode(id_lines, r + 1, f, zeta, nodes);
         uff::write_nodal_data(&mut out, &d)?;
     }
     Ok(out)
+}
+
+/// One UFF 55 normal mode (analysis type 2, real translations, 3 values per
+/// node): record 7 the load case 1 and `mode`, record 8 f (Hz), unit modal
+/// mass, viscous damping ratio `zeta`, no hysteretic damping.
+pub fn normal_mode(
+    id_lines: [String; 5],
+    mode: usize,
+    f: f64,
+    zeta: f64,
+    nodes: impl Iterator<Item = (i64, [f64; 3])>,
+) -> NodalData55 {
+    NodalData55 {
+        id_lines,
+        model_type: 1,
+        analysis_type: 2,
+        data_characteristic: 2,
+        specific_data_type: 8,
+        data_type: 2,
+        values_per_node: 3,
+        integers: vec![1, mode as i64],
+        reals: vec![f, 1.0, zeta, 0.0],
+        nodes: nodes
+            .map(|(node, v)| NodeValues {
+                node,
+                values: Ordinate::Real(v.to_vec()),
+            })
+            .collect(),
+    }
 }
 
 /// The shapes as CSV: `node`, `direction`, then one column per mode named by

@@ -1,15 +1,8 @@
 //! `frfup batch`: campaign file, per-case folders, summaries, shards, exit codes.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn frfup(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
+use crate::cli_support::{cantilever_case, frfup};
 
 fn workdir(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("frfup-cli-batch-{}-{name}", std::process::id()));
@@ -21,28 +14,7 @@ fn workdir(name: &str) -> PathBuf {
 /// A campaign over the paper's cantilever: a good case, a case whose threshold
 /// cannot be met, and a case whose test file is missing.
 fn campaign(dir: &Path) -> PathBuf {
-    let deck = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/paper/cantilever.deck");
-    std::fs::copy(&deck, dir.join("beam.deck")).unwrap();
-    let sensors: Vec<String> = (2..=16).map(|n| format!("{n}:+z")).collect();
-    let out = frfup(&[
-        "simulate",
-        dir.join("beam.deck").to_str().unwrap(),
-        "--input",
-        "16:+z",
-        "--band",
-        "0:300:1201",
-        "--sensors",
-        &sensors.join(","),
-        "--set",
-        "p3=1.0",
-        "--out",
-        dir.join("beam.uff").to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    cantilever_case(dir);
     let toml = r#"
 fail_below_sfdac = 0.5
 

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::process::Command;
 
-use crate::cli_support::{csv_rows, fixture, frfup, scratch};
+use crate::cli_support::{csv_rows, fixture, frfup, pyuff_available, scratch};
 use frfup_parsers::uff::{self, Dataset, OtherKind};
 
 fn tmp(name: &str) -> PathBuf {
@@ -106,11 +106,7 @@ fn modes_uff_reads_back() {
 
 #[test]
 fn pyuff_reads_modes_uff() {
-    let probe = Command::new("python3")
-        .args(["-c", "import pyuff"])
-        .output();
-    if !probe.map(|o| o.status.success()).unwrap_or(false) {
-        println!("skipped: python3 with pyuff is not available");
+    if !pyuff_available() {
         return;
     }
     let out = identify_joint("pyuff");

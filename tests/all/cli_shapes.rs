@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use crate::cli_support::{csv_rows, fixture, frfup, scratch};
+use crate::cli_support::{csv_rows, fixture, frfup, pyuff_available, scratch};
 use frfup_parsers::uff::{self, Dataset, NodalData55, OtherKind};
 
 fn tmp(name: &str) -> PathBuf {
@@ -155,11 +155,7 @@ fn update_writes_test_and_fe_shapes() {
 /// pyuff reads the geometry and modes `modes --uff` writes.
 #[test]
 fn pyuff_reads_the_modes_uff() {
-    let probe = Command::new("python3")
-        .args(["-c", "import pyuff"])
-        .output();
-    if !probe.map(|o| o.status.success()).unwrap_or(false) {
-        println!("skipped: python3 with pyuff is not available");
+    if !pyuff_available() {
         return;
     }
     let path = tmp("pyuff-modes.uff");

@@ -86,6 +86,19 @@ pub fn csv_rows(path: &Path) -> Vec<Vec<String>> {
         .collect()
 }
 
+/// Whether `python3` with pyuff runs here; prints why a test is skipped if not.
+pub fn pyuff_available() -> bool {
+    let ok = Command::new("python3")
+        .args(["-c", "import pyuff"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false);
+    if !ok {
+        println!("skipped: python3 with pyuff is not available");
+    }
+    ok
+}
+
 /// A JSON file.
 pub fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()

@@ -3,15 +3,8 @@
 //! its parameters with their uncertainty.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn frfup(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(args)
-        .env("CI", "true")
-        .output()
-        .expect("run frfup")
-}
+use crate::cli_support::{cantilever_case, frfup};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -27,32 +20,6 @@ fn workdir(name: &str) -> PathBuf {
 
 fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
-}
-
-/// The paper's cantilever with p3 doubled, simulated into `dir/beam.uff`.
-fn cantilever(dir: &Path) -> (String, String) {
-    let deck = root().join("fixtures/paper/cantilever.deck");
-    let uff = dir.join("beam.uff");
-    let sensors: Vec<String> = (2..=16).map(|n| format!("{n}:+z")).collect();
-    let o = frfup(&[
-        "simulate",
-        deck.to_str().unwrap(),
-        "--input",
-        "16:+z",
-        "--band",
-        "0:300:1201",
-        "--sensors",
-        &sensors.join(","),
-        "--set",
-        "p3=1.0",
-        "--out",
-        uff.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    (
-        deck.to_str().unwrap().to_string(),
-        uff.to_str().unwrap().to_string(),
-    )
 }
 
 #[test]
@@ -98,7 +65,7 @@ fn a_run_that_does_not_converge_has_a_red_status_that_says_why() {
 #[test]
 fn a_converged_run_has_a_green_status_and_its_estimate() {
     let dir = workdir("green");
-    let (deck, uff) = cantilever(&dir);
+    let (deck, uff) = cantilever_case(&dir);
     let out = dir.join("out");
     let o = frfup(&[
         "--quiet",
@@ -146,7 +113,7 @@ fn a_converged_run_has_a_green_status_and_its_estimate() {
 #[test]
 fn the_readers_notes_on_the_inputs_reach_every_report() {
     let dir = workdir("notes");
-    let (deck, uff) = cantilever(&dir);
+    let (deck, uff) = cantilever_case(&dir);
     let noted = dir.join("noted.uff");
     let text = format!("exported by hand\n{}", read(Path::new(&uff)));
     std::fs::write(&noted, text).unwrap();
@@ -184,7 +151,7 @@ fn the_readers_notes_on_the_inputs_reach_every_report() {
 #[test]
 fn the_readers_notes_reach_the_batch_summary() {
     let dir = workdir("batch-notes");
-    let (deck, uff) = cantilever(&dir);
+    let (deck, uff) = cantilever_case(&dir);
     let noted = dir.join("noted.uff");
     std::fs::write(
         &noted,
