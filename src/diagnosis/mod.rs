@@ -13,6 +13,7 @@
 //! The files of a diagnosis are written by `report::diagnosis` (the report
 //! layer, above this one).
 
+pub mod data_errors;
 pub mod hypotheses;
 pub mod localise;
 pub mod refit;
@@ -184,11 +185,31 @@ pub fn diagnose_with_progress(
         clock = std::time::Instant::now();
         solved = evaluations;
     };
-    // Channels the model cannot place are ignored.
-    let (data, ignored_channels) = search::placed_test_data(deck, test)?;
+    // A row of the FRF matrix (roving hammer) is used as a column by
+    // reciprocity; channels the model cannot place are ignored.
+    let (column, _) = crate::testdata::layout::as_column(test);
+    let (measured, mut ignored_channels) = search::placed_test_data(deck, &column)?;
+    // Data errors before physics: the rest runs on the corrected test.
+    stage("checking each channel");
+    let checked = data_errors::check(&measured, &fit::modal_model(deck, &measured)?);
+    let (test, data) = if checked.is_empty() {
+        (column, measured.clone())
+    } else {
+        let fixed = data_errors::correct::corrected(&column, &measured, &checked);
+        let (data, _) = search::placed_test_data(deck, &fixed)?;
+        (fixed, data)
+    };
+    let test = &test;
     let engine = Engine::new(&data);
     let search = Search::new(&engine, deck, test, opts);
-    lap("prepare test data", 0);
+    let data_error_findings = data_error_findings(deck, &measured, &search, &checked);
+    ignored_channels.extend(
+        checked
+            .iter()
+            .filter(|e| matches!(e.kind, data_errors::DataErrorKind::Dead { .. }))
+            .map(|e| measured.channels[e.channel].label.clone()),
+    );
+    lap("prepare test data", engine.evaluations.get());
 
     // 1. The deck as given, then with its own parameters updated.
     stage("updating the deck's parameters");
@@ -218,6 +239,7 @@ pub fn diagnose_with_progress(
     if let Some(f) = final_damping::damping_finding(&search, &current, &final_fit, v_fitted) {
         findings.insert(0, f);
     }
+    findings.splice(0..0, data_error_findings);
     let mut diagnosed_deck = hdamp::with_damping(&current, damp.damping());
     // Round trip through the writer so the deck is exactly what a file gives.
     let text = frfup_parsers::deck::write(&diagnosed_deck);
@@ -246,6 +268,32 @@ pub fn diagnose_with_progress(
         at_noise_level,
         timings,
     })
+}
+
+/// The data errors as findings, each scored by the deck's FRF error (its
+/// damping fitted, 1 = noise level) on the test as measured and as corrected.
+fn data_error_findings(
+    deck: &Deck,
+    measured: &TestData,
+    search: &Search,
+    errors: &[data_errors::DataError],
+) -> Vec<Finding> {
+    if errors.is_empty() {
+        return Vec::new();
+    }
+    let error_of = |engine: &Engine, start: &DampingState| {
+        engine
+            .fit(&select::FitRequest::damping(deck, start, &engine.all))
+            .map_or(f64::NAN, |f| f.cost / engine.noise_level())
+    };
+    let before_engine = Engine::new(measured);
+    let before_start = fit::start_damping(hdamp::of_deck(deck), measured);
+    let before = error_of(&before_engine, &before_start);
+    let after = error_of(search.engine, &search.start_damping);
+    errors
+        .iter()
+        .filter_map(|e| data_errors::finding(e, measured, before, after))
+        .collect()
 }
 
 /// Number with 4 significant digits.

@@ -72,6 +72,10 @@ pub struct IdentifiedMode {
     pub damping_ratio: f64,
     /// Real mode shape at the channels, largest magnitude 1.
     pub shape: Vec<f64>,
+    /// ±1: `shape` × this has the signs of the modal constants
+    /// Q_c = φ_c·φ_ref themselves (a residue a_c = Q_c / (2iω_d), so
+    /// Q_c ∝ −Im a_c); the driving point's constant is positive.
+    pub constant_sign: f64,
     /// Peak modal contribution ÷ residual RMS of its band.
     pub significance: f64,
     /// The measured line nearest the natural frequency.
@@ -524,11 +528,23 @@ impl Band {
                 frequency_hz: f,
                 damping_ratio: z,
                 shape: real_shape(&a),
+                constant_sign: constant_sign(&a),
                 significance,
                 line: 0,
             });
         }
         out
+    }
+}
+
+/// The sign that turns [`real_shape`] of the residues `a` into modal
+/// constants: that of Σ_c shape_c·(−Im a_c).
+fn constant_sign(a: &[c64]) -> f64 {
+    let s: f64 = real_shape(a).iter().zip(a).map(|(v, x)| -v * x.im).sum();
+    if s < 0.0 {
+        -1.0
+    } else {
+        1.0
     }
 }
 

@@ -21,6 +21,11 @@ pub enum Physics {
     Suspension,
     ShearDeformation,
     AddedMass,
+    /// Data errors, found before any physics ([`crate::diagnosis::data_errors`]).
+    ReversedChannel,
+    SwappedChannels,
+    ChannelScale,
+    DeadChannel,
 }
 
 impl Physics {
@@ -33,7 +38,22 @@ impl Physics {
             Physics::Suspension => "suspension",
             Physics::ShearDeformation => "shear-deformation",
             Physics::AddedMass => "added-mass",
+            Physics::ReversedChannel => "reversed-channel",
+            Physics::SwappedChannels => "swapped-channels",
+            Physics::ChannelScale => "channel-scale",
+            Physics::DeadChannel => "dead-channel",
         }
+    }
+
+    /// A data error (a channel's record), not a physical model extension.
+    pub fn is_data_error(self) -> bool {
+        matches!(
+            self,
+            Physics::ReversedChannel
+                | Physics::SwappedChannels
+                | Physics::ChannelScale
+                | Physics::DeadChannel
+        )
     }
 }
 
