@@ -122,7 +122,7 @@ pub fn html(r: &IdentifyReport, charts: &Charts) -> String {
     if let (Some(v), Some(still)) = (r.viewer, &charts.shapes) {
         s.push_str(&viewer::section(
             v,
-            "The paired modes above, animated: the identified test mode and its FE partner.",
+            "The paired modes above, animated: the identified test mode (the real part of its shape, as in <code>shapes.csv</code>) and its FE partner.",
             still,
         ));
     }
