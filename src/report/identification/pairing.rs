@@ -4,7 +4,7 @@ use frfup_parsers::deck::Deck;
 
 use crate::identification::Identification;
 use crate::model::{self, Dof, ParameterValues};
-use crate::report::viewer::{self, FeShapes};
+use crate::report::viewer::fe::{self, FeShapes};
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
 
 /// Least MAC of a pair.
@@ -112,6 +112,6 @@ pub fn pair_with_deck(deck: &Deck, id: &Identification) -> Result<Pairing, Strin
         pairs,
         common_dofs: used.len(),
         measured,
-        fe_shapes: viewer::fe_shapes(deck, &fe, &modes),
+        fe_shapes: fe::fe_shapes(deck, &fe, &modes),
     })
 }

@@ -16,6 +16,7 @@
 //! * [`still`]: the still images;
 //! * [`page`]: the HTML section and its JSON.
 
+pub mod fe;
 pub mod interpolate;
 pub mod page;
 pub mod sources;
@@ -23,10 +24,10 @@ pub mod still;
 
 use frfup_parsers::deck::{Analysis, Deck};
 
-use crate::model::{Dof, FeModel};
-use crate::report::shapes::{self, NodalModes};
-use crate::solvers::eigen::Modes;
+use crate::model::Dof;
+use crate::report::shapes;
 
+pub use fe::{fe_shapes, FeShapes};
 pub use page::{section, viewer_json};
 pub use still::render as still_svg;
 
@@ -65,26 +66,6 @@ pub struct ViewerData {
     /// [node] which translations the test measured.
     pub measured: Vec<[bool; 3]>,
     pub pairs: Vec<ViewerPair>,
-}
-
-/// The FE modes at every node of a deck and which translations are free.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FeShapes {
-    /// Every node of the deck, ascending ids.
-    pub nodal: NodalModes,
-    /// [node] translation free (not fixed, in the analysis' plane).
-    pub free: Vec<[bool; 3]>,
-}
-
-/// `modes` of `fe` (built from `deck`) at every node.
-pub fn fe_shapes(deck: &Deck, fe: &FeModel, modes: &Modes) -> FeShapes {
-    let nodal = shapes::fe_modes(deck, fe, modes, "");
-    let free = nodal
-        .nodes
-        .iter()
-        .map(|&n| [Dof::X, Dof::Y, Dof::Z].map(|d| fe.dofs.index(n, d).is_some()))
-        .collect();
-    FeShapes { nodal, free }
 }
 
 /// A test shape at measured points and the FE mode it pairs with.
