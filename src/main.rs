@@ -81,8 +81,8 @@ struct DemoArgs {
     /// resonances.csv, updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv,
     /// shapes.csv and modes.uff (test and FE mode shapes at the measured
     /// DOFs, UFF 15/82/55), updated.deck, convergence.svg, frequencies.svg,
-    /// sfdac.svg, mac.svg, frf-overlay.svg and frf/NN-CHANNEL.svg (one chart
-    /// per channel).
+    /// sfdac.svg, mac.svg, mode-shapes.svg (the paired shapes as stills),
+    /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long, default_value = "frfup-demo")]
     out: PathBuf,
 }
@@ -203,7 +203,8 @@ struct UpdateArgs {
     /// updating-frequencies.csv, sfdac.csv, mac.csv, frf.csv, shapes.csv and
     /// modes.uff (test and FE mode shapes at the measured DOFs, UFF
     /// 15/82/55), updated.deck, convergence.svg, frequencies.svg, sfdac.svg,
-    /// mac.svg, frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
+    /// mac.svg, mode-shapes.svg (the paired shapes as stills), frf-overlay.svg
+    /// and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,
     /// Print a JSON summary on stdout (the main keys of report.json) instead of text.
@@ -224,6 +225,7 @@ struct DiagnoseArgs {
     test: PathBuf,
     /// Output folder (created; replaced as a whole): diagnosis.json,
     /// diagnosed.deck, report.md, report.html, localisation.svg,
+    /// mode-shapes.svg (the paired shapes as stills, when modes pair),
     /// frf-overlay.svg and frf/NN-CHANNEL.svg (one chart per channel).
     #[arg(long)]
     out: PathBuf,

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 
 use crate::identification::{self, Identification, IdentifyOptions, ModeKind};
 use crate::report::identification::{pair_with_deck, write_outputs, IdentifyReport};
+use crate::report::viewer::sources::from_identification;
 use crate::tasks::{load_test_with_notes, read_deck, CommandError};
 
 /// Options of `frfup identify`.
@@ -75,6 +76,10 @@ pub fn run(cmd: &IdentifyCommand) -> Result<Identification, CommandError> {
         ),
         _ => None,
     };
+    let viewer = deck
+        .as_ref()
+        .zip(pairing.as_ref())
+        .map(|(d, p)| from_identification(d, &id, p, "FE mode"));
     let deck_name = cmd.deck.as_ref().map(|p| p.display().to_string());
     let test_name = cmd.test.display().to_string();
     let report = IdentifyReport {
@@ -83,6 +88,7 @@ pub fn run(cmd: &IdentifyCommand) -> Result<Identification, CommandError> {
         test_name: &test_name,
         pairing: deck_name.as_deref().zip(pairing.as_ref()),
         notes: &notes,
+        viewer: viewer.as_ref(),
     };
     crate::fsio::write_folder(&cmd.out, |dir| {
         write_outputs(&report, dir).map_err(|e| std::io::Error::other(e.to_string()))

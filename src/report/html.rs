@@ -1,6 +1,6 @@
 //! `report.html`: one self-contained page (inline SVG charts and CSS, no
-//! scripts, no network) with what was measured, the model, the options, the
-//! tables of the run and its warnings.
+//! network) with what was measured, the model, the options, the tables of
+//! the run, the mode-shape viewer (the page's one script) and its warnings.
 
 use std::fmt::Write as _;
 
@@ -22,6 +22,8 @@ pub struct EmbeddedCharts {
     pub frf_sheet: String,
     /// (channel label, SVG) per channel.
     pub frf_channels: Vec<(String, String)>,
+    /// The mode-shape viewer's section.
+    pub shapes: Option<String>,
 }
 
 /// Escape text for HTML.
@@ -82,7 +84,10 @@ th{background:#f2f2f2}td.l,th.l{text-align:left}tr.sel td{background:#eef5ff;fon
 .status{padding:.7em 1em;margin:.8em 0;border:2px solid;border-radius:4px;font-size:1.05em}\
 .status b.word{font-size:1.25em;letter-spacing:.02em}.status.ok{background:#e6f4ea;border-color:#1e7e34;color:#0f4d1f}\
 .status.fail{background:#fdecea;border-color:#c62828;color:#7f1010}.status.amber{background:#fff4e0;border-color:#e08a00;color:#6b4100}\
-.warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em;overflow-wrap:anywhere}li{margin:.2em 0}";
+.warn li{margin:.2em 0}.muted{color:#666}details{margin:.3em 0}summary{cursor:pointer}code{background:#f4f4f4;padding:0 .2em;overflow-wrap:anywhere}li{margin:.2em 0}\
+.viewer-pair{display:flex;flex-wrap:wrap;gap:1em}.viewer-pair figure{flex:1 1 280px;max-width:640px;margin:0}.viewer canvas{width:100%;height:auto;border:1px solid #eee;touch-action:pan-y;cursor:grab}\
+figcaption{font-size:.92em;color:#444}.viewer-controls label{white-space:nowrap;margin-right:.8em}.viewer-controls label.pick{white-space:normal}.viewer-controls select{max-width:100%}.viewer-still{display:none}\
+@media print{.viewer-live{display:none}.viewer-still{display:block}}";
 
 fn row(s: &mut String, cells: &[(&str, String)]) {
     s.push_str("<tr>");
@@ -177,6 +182,9 @@ pub fn report_html(
     let _ = writeln!(s, "<h2 id=\"mac\">Mode shape correlation (MAC)</h2>");
     let _ = writeln!(s, "<p>{}</p>", super::prose::mac_sources(result).html());
     chart(&mut s, &charts.mac);
+    if let Some(shapes) = &charts.shapes {
+        s.push_str(shapes);
+    }
 
     let _ = writeln!(
         s,
@@ -283,6 +291,7 @@ fn nav(s: &mut String) {
         ("sfdac", "SFDAC"),
         ("frequencies", "frequencies"),
         ("mac", "MAC"),
+        ("shapes", "shapes"),
         ("frf", "FRFs"),
         ("warnings", "warnings"),
         ("files", "files"),

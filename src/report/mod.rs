@@ -9,7 +9,8 @@
 //!   tables as CSV, `updated.deck`, `report.md`);
 //! * [`tables`]: the CSV files [`output::write_outputs`] does not write;
 //! * [`html`]: the page;
-//! * [`diagnosis`]: the charts and page of `frfup diagnose`.
+//! * [`diagnosis`]: the charts and page of `frfup diagnose`;
+//! * [`viewer`]: the mode-shape viewer of the three reports.
 //!
 //! Entry points: [`output::write_outputs`] and [`write_report`].
 
@@ -23,6 +24,7 @@ pub mod prose;
 pub mod shapes;
 pub mod status;
 pub mod tables;
+pub mod viewer;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -118,6 +120,7 @@ pub fn render_report(
             charts::frf_overlay::render_contact_sheet(&data.frf),
         )?,
         frf_channels: Vec::new(),
+        shapes: None,
     };
     let mut files: Vec<(String, Vec<u8>)> = vec![
         (
@@ -156,6 +159,9 @@ pub fn render_report(
     files.push(("mac.csv".into(), tables::mac_csv(&data).into_bytes()));
     files.push(("frf.csv".into(), tables::frf_csv(&data).into_bytes()));
     files.extend(shape_files(result, states, deck, inputs)?);
+    let (section, still) = viewer::update_section(result, states, deck);
+    embedded.shapes = Some(section);
+    files.extend(still.map(|svg| (viewer::STILL_FILE.to_string(), svg.into_bytes())));
     let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     listed.extend(
         [

@@ -71,9 +71,13 @@ fn joint_modes_match_the_truth_deck() {
     assert_eq!(shapes[0].len(), 3 + 3 * 5);
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(html.contains("<svg") && html.contains("Pairing with"));
-    // Self-contained: no script, nothing fetched (the SVG namespace is a name).
+    // Self-contained: the viewer's inline scripts only, nothing fetched (the
+    // SVG namespace is a name).
+    assert_eq!(html.matches("<script").count(), 2);
     assert!(
-        !html.contains("<script") && !html.contains("src=\"http") && !html.contains("href=\"http")
+        !html.contains("<script src")
+            && !html.contains("src=\"http")
+            && !html.contains("href=\"http")
     );
 }
 

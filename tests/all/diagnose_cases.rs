@@ -380,6 +380,7 @@ fn written_whole_and_deterministic(
         "diagnosis.json",
         "frf-overlay.svg",
         "localisation.svg",
+        "mode-shapes.svg",
         "report.html",
         "report.md",
     ]
@@ -440,9 +441,16 @@ fn page_and_charts_say_what_they_show(
     ] {
         assert!(html.contains(t), "report.html lacks {t}");
     }
-    assert_eq!(html.matches("<svg").count(), 2 + n, "every chart inline");
+    // The charts and the mode shapes' still images.
+    assert_eq!(
+        html.matches("<svg").count(),
+        2 + n + 1,
+        "every chart inline"
+    );
+    // The only scripts: the mode-shape viewer's data blob and code, inline.
+    assert_eq!(html.matches("<script").count(), 2);
     for bad in [
-        "<script",
+        "<script src",
         "<link",
         "<img",
         "src=\"http",

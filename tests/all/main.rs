@@ -34,6 +34,7 @@ mod random_benchmark;
 mod report_browser;
 mod report_render;
 mod report_status;
+mod report_viewer;
 mod solvers_eigen;
 mod solvers_frf;
 mod updating_hard_cases;

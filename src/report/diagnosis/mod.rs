@@ -51,6 +51,8 @@ pub fn render_files(
         files.push((name, svg.clone().into_bytes()));
         channels.push((ch.label.clone(), svg));
     }
+    let (shapes, still) = super::viewer::diagnosis_section(d, test);
+    files.extend(still.map(|svg| (super::viewer::STILL_FILE.to_string(), svg.into_bytes())));
     let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     listed.extend(
         [
@@ -72,6 +74,7 @@ pub fn render_files(
             frf_sheet: sheet,
             frf_channels: channels,
             frf_note,
+            shapes: Some(shapes),
         },
         &listed,
     );

@@ -18,6 +18,8 @@ pub struct Embedded {
     pub frf_channels: Vec<(String, String)>,
     /// Why some model FRFs are missing, if they are.
     pub frf_note: Option<String>,
+    /// The mode-shape viewer's section.
+    pub shapes: Option<String>,
 }
 
 fn num(v: f64, d: usize) -> String {
@@ -63,6 +65,9 @@ pub fn diagnosis_html(
     disagreed(&mut s, d, charts);
     where_section(&mut s, d, charts);
     physics(&mut s, d);
+    if let Some(shapes) = &charts.shapes {
+        s.push_str(shapes);
+    }
     improved(&mut s, d);
     rejected(&mut s, d);
     let _ = writeln!(s, "<h2 id=\"files\">Files</h2>\n<ul>");
@@ -118,6 +123,7 @@ fn header(s: &mut String, d: &Diagnosis, deck_name: &str, test_name: &str) {
         ("disagreed", "what disagreed"),
         ("where", "where"),
         ("physics", "which physics"),
+        ("shapes", "mode shapes"),
         ("improved", "improvement"),
         ("rejected", "rejected hypotheses"),
         ("files", "files"),

@@ -1,6 +1,6 @@
 //! The files of `frfup identify`: `modes.csv`, `shapes.csv`, `modes.uff`
 //! (UFF 55), `stabilisation.svg`, `synthesis.svg`, `report.html`, and with a
-//! deck `pairs.csv` and `mac.svg`.
+//! deck `pairs.csv`, `mac.svg` and `mode-shapes.svg`.
 
 pub mod page;
 pub mod pairing;
@@ -13,6 +13,7 @@ use std::path::Path;
 pub use pairing::{pair_with_deck, Pairing};
 
 use super::charts::{self, FrfChannel, FrfOverlay, MacChart, MacPanel, ResonanceMark};
+use super::viewer::{self, ViewerData};
 use super::ReportError;
 use crate::fsio::write_atomic;
 use crate::identification::Identification;
@@ -27,6 +28,8 @@ pub struct IdentifyReport<'a> {
     pub pairing: Option<(&'a str, &'a Pairing)>,
     /// Remarks on the inputs (skipped records, left-out channels).
     pub notes: &'a [String],
+    /// The paired shapes on the deck's wireframe (with a deck).
+    pub viewer: Option<&'a ViewerData>,
 }
 
 /// The rendered charts.
@@ -34,6 +37,8 @@ pub struct Charts {
     pub stabilisation: String,
     pub synthesis: String,
     pub mac: Option<String>,
+    /// `mode-shapes.svg` (with a deck).
+    pub shapes: Option<String>,
 }
 
 fn synthesis_overlay(r: &IdentifyReport) -> FrfOverlay {
@@ -126,6 +131,7 @@ pub fn render_charts(r: &IdentifyReport) -> Result<Charts, ReportError> {
         stabilisation: stab,
         synthesis,
         mac,
+        shapes: r.viewer.map(viewer::still_svg),
     })
 }
 
@@ -150,6 +156,9 @@ pub fn write_outputs(r: &IdentifyReport, dir: &Path) -> Result<(), ReportError> 
     }
     if let Some(mac) = &charts.mac {
         write("mac.svg", mac.as_bytes())?;
+    }
+    if let Some(svg) = &charts.shapes {
+        write(viewer::STILL_FILE, svg.as_bytes())?;
     }
     write("report.html", page::html(r, &charts).as_bytes())?;
     Ok(())

@@ -1,6 +1,6 @@
 //! `report.html` of `frfup identify`: one self-contained page (inline SVG
-//! and CSS, no script, no network): what was fitted, the modes, the charts,
-//! the pairing with the deck.
+//! and CSS, no network): what was fitted, the modes, the charts, the
+//! pairing with the deck and the mode-shape viewer (its one script).
 
 use std::fmt::Write as _;
 
@@ -8,6 +8,7 @@ use super::{Charts, IdentifyReport};
 use crate::identification::ModeKind;
 use crate::report::charts::fmt_fixed;
 use crate::report::html::{chart, esc, CSS};
+use crate::report::viewer;
 use crate::testdata::dof_label;
 
 fn header(s: &mut String, r: &IdentifyReport) {
@@ -118,6 +119,13 @@ pub fn html(r: &IdentifyReport, charts: &Charts) -> String {
     s.push_str("<h2>Synthesis</h2>\n");
     chart(&mut s, &charts.synthesis);
     pairs_table(&mut s, r, charts);
+    if let (Some(v), Some(still)) = (r.viewer, &charts.shapes) {
+        s.push_str(&viewer::section(
+            v,
+            "The paired modes above, animated: the identified test mode (the real part of its shape, as in <code>shapes.csv</code>) and its FE partner.",
+            still,
+        ));
+    }
     if !r.notes.is_empty() {
         s.push_str("<h2>Notes on the inputs</h2>\n<ul>\n");
         for n in r.notes {

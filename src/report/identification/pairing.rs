@@ -3,7 +3,8 @@
 use frfup_parsers::deck::Deck;
 
 use crate::identification::Identification;
-use crate::model::{self, ParameterValues};
+use crate::model::{self, Dof, ParameterValues};
+use crate::report::viewer::fe::{self, FeShapes};
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
 
 /// Least MAC of a pair.
@@ -19,6 +20,11 @@ pub struct Pairing {
     pub pairs: Vec<(usize, usize)>,
     /// Measured outputs the deck has.
     pub common_dofs: usize,
+    /// (output, its FE node and DOF, sign of the output in the DOF's sense)
+    /// of those outputs, in output order.
+    pub measured: Vec<(usize, (u32, Dof), f64)>,
+    /// The FE modes at every node, for the mode-shape viewer.
+    pub fe_shapes: FeShapes,
 }
 
 /// MAC of a complex test shape with a real FE shape.
@@ -94,10 +100,18 @@ pub fn pair_with_deck(deck: &Deck, id: &Identification) -> Result<Pairing, Strin
         }
     }
     pairs.sort();
+    let measured = used
+        .iter()
+        .zip(&rows)
+        .zip(&signs)
+        .map(|((&o, &eq), &s)| (o, fe.dofs.equations[eq], s))
+        .collect();
     Ok(Pairing {
         fe_frequencies_hz: modes.frequencies_hz(),
         mac: mac_m,
         pairs,
         common_dofs: used.len(),
+        measured,
+        fe_shapes: fe::fe_shapes(deck, &fe, &modes),
     })
 }
