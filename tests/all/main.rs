@@ -22,6 +22,7 @@ mod cli_model;
 mod cli_progress;
 mod cli_shapes;
 mod cli_uff;
+mod diagnose_benchmark;
 mod diagnose_cases;
 mod hostile_inputs;
 mod identification_closed_form;
