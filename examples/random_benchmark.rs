@@ -2,7 +2,7 @@
 //! `--diagnose` that of `frfup diagnose` (issue 17, item 6; see
 //! `random_benchmark/diagnose.rs`).
 //!
-//!   random_benchmark --diagnose --cases 300 --seed 1 --out DIR [--jobs 2] [--timeout 600]
+//!   random_benchmark --diagnose --cases 300 --seed 1 --out DIR [--jobs 2] [--timeout 600] [--score-only]
 //!
 //!   cargo run --release --features bench --example random_benchmark -- --cases 200 --seed 1 \
 //!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
@@ -39,6 +39,8 @@ struct Args {
     generate_only: bool,
     /// The diagnosis benchmark instead of the update benchmark.
     diagnose: bool,
+    /// With `diagnose`: score the cases already in `out` again, run nothing.
+    score_only: bool,
     /// Extra arguments of `frfup update` (none for the benchmark proper).
     update_args: Vec<String>,
     /// Scatter mode: these cases, each run on `noise_seeds` noise draws.
@@ -59,6 +61,7 @@ fn parse_args() -> Result<Args, String> {
         bounds: false,
         generate_only: false,
         diagnose: false,
+        score_only: false,
         update_args: Vec::new(),
         scatter: Vec::new(),
         noise_seeds: 20,
@@ -77,6 +80,7 @@ fn parse_args() -> Result<Args, String> {
             "--bounds" => a.bounds = true,
             "--generate-only" => a.generate_only = true,
             "--diagnose" => a.diagnose = true,
+            "--score-only" => a.score_only = true,
             "--update-arg" => a.update_args.push(value()?),
             "--scatter" => a
                 .scatter
@@ -96,7 +100,7 @@ fn main() {
     let args = match parse_args() {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--diagnose] [--update-arg ARG]... [--scatter CASE]... [--noise-seeds N] [--noise F]");
+            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--diagnose [--score-only]] [--update-arg ARG]... [--scatter CASE]... [--noise-seeds N] [--noise F]");
             std::process::exit(2);
         }
     };
@@ -351,7 +355,7 @@ fn run(args: &Args) -> Result<(), String> {
     if !args.scatter.is_empty() {
         return scatter(args, &frfup_binary(args)?);
     }
-    let bin = if args.generate_only {
+    let bin = if args.generate_only || args.score_only {
         PathBuf::new()
     } else {
         frfup_binary(args)?

@@ -3,7 +3,9 @@
 //! [`frfup::benchmark::generate_diagnosis`] into DIR/case-NNN/, each run as
 //! `frfup diagnose model.deck test.uff --out CASE/out` (no other flag),
 //! scored from CASE/out/diagnosis.json against truth.json; DIR/cases.csv,
-//! DIR/summary.md, and the summary printed.
+//! DIR/summary.md, and the summary printed. With `--score-only` the cases
+//! already in DIR are scored again (after a change of the scoring) without
+//! running anything.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -22,11 +24,15 @@ struct Written {
     dir: std::path::PathBuf,
 }
 
+/// Case `i` of the run, written into DIR/case-NNN/ unless `score_only`
+/// (then only its record is made: the files are already there).
 fn write_case(args: &Args, i: usize) -> Result<Written, String> {
     let seed = case_seed(args.seed, i as u64);
     let case = generate_diagnosis(seed, &GenOptions::diagnosis()).map_err(|e| e.to_string())?;
     let dir = args.out.join(format!("case-{i:03}"));
-    case.write(&dir).map_err(|e| e.to_string())?;
+    if !args.score_only {
+        case.write(&dir).map_err(|e| e.to_string())?;
+    }
     let record = DiagRecord {
         case: format!("case-{i:03}"),
         seed,
@@ -46,11 +52,27 @@ fn write_case(args: &Args, i: usize) -> Result<Written, String> {
     Ok(Written { record, dir })
 }
 
-/// Run and score one case.
-fn run_case(bin: &Path, w: &Written, timeout: f64) -> DiagRecord {
+/// Run one case (its exit code, time and message kept in CASE/run.json),
+/// or with `score_only` read them back; then score it.
+fn run_case(bin: &Path, w: &Written, args: &Args) -> DiagRecord {
     let mut r = w.record.clone();
-    let o = run_frfup(bin, &w.dir, "diagnose", timeout, &[]);
-    (r.exit_code, r.seconds, r.message) = (o.exit_code, o.seconds, o.message);
+    let run_json = w.dir.join("run.json");
+    if args.score_only {
+        let run: Option<serde_json::Value> = std::fs::read_to_string(&run_json)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok());
+        let run = run.unwrap_or_else(|| serde_json::json!({"message": "not run"}));
+        r.exit_code = run["exit_code"].as_i64().map(|c| c as i32);
+        r.seconds = run["seconds"].as_f64().unwrap_or(0.0);
+        r.message = run["message"].as_str().unwrap_or_default().to_string();
+    } else {
+        let o = run_frfup(bin, &w.dir, "diagnose", args.timeout, &[]);
+        (r.exit_code, r.seconds, r.message) = (o.exit_code, o.seconds, o.message);
+        let run = serde_json::json!({
+            "exit_code": r.exit_code, "seconds": r.seconds, "message": r.message,
+        });
+        let _ = std::fs::write(&run_json, format!("{run}\n"));
+    }
     let read = |name: &str| std::fs::read_to_string(w.dir.join(name)).ok();
     let truth = read("truth.json").and_then(|t| serde_json::from_str(&t).ok());
     let deck = read("model.deck").and_then(|t| frfup::parsers::deck::parse(&t).ok());
@@ -86,7 +108,7 @@ pub fn run(args: &Args, bin: &Path) -> Result<(), String> {
     let done = AtomicUsize::new(0);
     let t = Instant::now();
     let rows = parallel(cases.len(), args.jobs, |i| {
-        let r = run_case(bin, &cases[i], args.timeout);
+        let r = run_case(bin, &cases[i], args);
         let k = done.fetch_add(1, Ordering::SeqCst) + 1;
         let f = r.csv_fields();
         eprintln!(
@@ -104,11 +126,15 @@ pub fn run(args: &Args, bin: &Path) -> Result<(), String> {
     });
     let run_s = t.elapsed().as_secs_f64();
     write_csv(&args.out.join("cases.csv"), &rows)?;
-    let summary = format!(
-        "{}\nWall time: generation {gen_s:.0} s, diagnoses {run_s:.0} s ({} at a time).\n",
-        diagnosis_summary_markdown(&rows),
-        args.jobs
-    );
+    let wall = if args.score_only {
+        "Scored again from the files of an earlier run (times are that run's).".to_string()
+    } else {
+        format!(
+            "Wall time: generation {gen_s:.0} s, diagnoses {run_s:.0} s ({} at a time).",
+            args.jobs
+        )
+    };
+    let summary = format!("{}\n{wall}\n", diagnosis_summary_markdown(&rows));
     std::fs::write(args.out.join("summary.md"), &summary)
         .map_err(|e| format!("{}: {e}", args.out.display()))?;
     println!("{summary}");

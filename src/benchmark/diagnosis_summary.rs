@@ -253,17 +253,49 @@ fn by_class(rows: &[DiagRecord]) -> String {
     s
 }
 
+/// Cases by layout and by support: every effect right, a false finding.
+fn by_group(rows: &[DiagRecord]) -> String {
+    let mut s = String::from(
+        "| cases | n | every effect's physics and place right (cases with an effect) | a false finding |\n|---|---|---|---|\n",
+    );
+    for key in [
+        |r: &DiagRecord| r.layout.clone(),
+        |r: &DiagRecord| r.support.clone(),
+    ] {
+        let mut groups: BTreeMap<String, Vec<&DiagRecord>> = BTreeMap::new();
+        for r in rows {
+            groups.entry(key(r)).or_default().push(r);
+        }
+        for (name, g) in groups {
+            let eff: Vec<_> = g.iter().filter(|r| !r.score.is_control()).collect();
+            let right = eff.iter().filter(|r| r.score.right()).count();
+            let fals = g
+                .iter()
+                .filter(|r| !r.score.false_findings.is_empty())
+                .count();
+            s.push_str(&format!(
+                "| {name} | {} | {} | {} |\n",
+                g.len(),
+                pct(right, eff.len()),
+                pct(fals, g.len())
+            ));
+        }
+    }
+    s
+}
+
 /// The Markdown summary of a diagnosis run.
 pub fn diagnosis_summary_markdown(rows: &[DiagRecord]) -> String {
     let controls = rows.iter().filter(|r| r.score.is_control()).count();
     let pairs = rows.iter().filter(|r| r.score.effects.len() == 2).count();
     format!(
         "{} cases: {} with one effect, {pairs} with two, {controls} controls.\n\n{}\n\
-         Confusion matrix (a case counts once per true class × reported class):\n\n{}\n{}",
+         Confusion matrix (a case counts once per true class × reported class):\n\n{}\n{}\n{}",
         rows.len(),
         rows.len() - controls - pairs,
         rates(rows),
         confusion(rows),
-        by_class(rows)
+        by_class(rows),
+        by_group(rows)
     )
 }
