@@ -1,4 +1,8 @@
-//! The randomised benchmark of `frfup update` (issue 16, item 5).
+//! The randomised benchmark of `frfup update` (issue 16, item 5), and with
+//! `--diagnose` that of `frfup diagnose` (issue 17, item 6; see
+//! `random_benchmark/diagnose.rs`).
+//!
+//!   random_benchmark --diagnose --cases 300 --seed 1 --out DIR [--jobs 2] [--timeout 600] [--score-only]
 //!
 //!   cargo run --release --features bench --example random_benchmark -- --cases 200 --seed 1 \
 //!       --out DIR [--jobs 2] [--frfup PATH] [--timeout 600] [--bounds] [--generate-only]
@@ -17,6 +21,9 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
+#[path = "random_benchmark/diagnose.rs"]
+mod diagnose;
+
 use frfup::benchmark::{
     case_seed, generate, score_report, summary_markdown, GenOptions, RunRecord,
 };
@@ -30,6 +37,10 @@ struct Args {
     timeout: f64,
     bounds: bool,
     generate_only: bool,
+    /// The diagnosis benchmark instead of the update benchmark.
+    diagnose: bool,
+    /// With `diagnose`: score the cases already in `out` again, run nothing.
+    score_only: bool,
     /// Extra arguments of `frfup update` (none for the benchmark proper).
     update_args: Vec<String>,
     /// Scatter mode: these cases, each run on `noise_seeds` noise draws.
@@ -49,6 +60,8 @@ fn parse_args() -> Result<Args, String> {
         timeout: 600.0,
         bounds: false,
         generate_only: false,
+        diagnose: false,
+        score_only: false,
         update_args: Vec::new(),
         scatter: Vec::new(),
         noise_seeds: 20,
@@ -66,6 +79,8 @@ fn parse_args() -> Result<Args, String> {
             "--timeout" => a.timeout = value()?.parse().map_err(|_| "--timeout: seconds")?,
             "--bounds" => a.bounds = true,
             "--generate-only" => a.generate_only = true,
+            "--diagnose" => a.diagnose = true,
+            "--score-only" => a.score_only = true,
             "--update-arg" => a.update_args.push(value()?),
             "--scatter" => a
                 .scatter
@@ -85,7 +100,7 @@ fn main() {
     let args = match parse_args() {
         Ok(a) => a,
         Err(e) => {
-            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--update-arg ARG]... [--scatter CASE]... [--noise-seeds N] [--noise F]");
+            eprintln!("random_benchmark: {e}\nusage: random_benchmark [--cases N] [--seed S] [--out DIR] [--jobs J] [--frfup PATH] [--timeout SECS] [--bounds] [--generate-only] [--diagnose [--score-only]] [--update-arg ARG]... [--scatter CASE]... [--noise-seeds N] [--noise F]");
             std::process::exit(2);
         }
     };
@@ -190,25 +205,37 @@ fn write_case(case: &frfup::benchmark::Case, dir: &Path, i: usize) -> Result<Gen
     Ok(Generated { record, truth, dir })
 }
 
-/// `frfup update model.deck test.uff --out DIR/out`, killed after `timeout` s.
-fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRecord {
-    let mut r = g.record.clone();
-    let out = g.dir.join("out");
+/// How a run of `frfup` went.
+struct Outcome {
+    exit_code: Option<i32>,
+    seconds: f64,
+    /// Why it failed: the last stderr line, or the runner's reason.
+    message: String,
+}
+
+/// `frfup COMMAND model.deck test.uff --out DIR/out EXTRA...`, killed after
+/// `timeout` s; stdout and stderr in DIR/COMMAND.stdout, DIR/COMMAND.stderr.
+fn run_frfup(bin: &Path, dir: &Path, command: &str, timeout: f64, extra: &[String]) -> Outcome {
+    let mut o = Outcome {
+        exit_code: None,
+        seconds: 0.0,
+        message: String::new(),
+    };
     let files = (
-        std::fs::File::create(g.dir.join("update.stdout")),
-        std::fs::File::create(g.dir.join("update.stderr")),
+        std::fs::File::create(dir.join(format!("{command}.stdout"))),
+        std::fs::File::create(dir.join(format!("{command}.stderr"))),
     );
     let (Ok(so), Ok(se)) = files else {
-        r.message = "cannot create the log files".into();
-        return r;
+        o.message = "cannot create the log files".into();
+        return o;
     };
     let start = Instant::now();
     let child = Command::new(bin)
-        .arg("update")
-        .arg(g.dir.join("model.deck"))
-        .arg(g.dir.join("test.uff"))
+        .arg(command)
+        .arg(dir.join("model.deck"))
+        .arg(dir.join("test.uff"))
         .arg("--out")
-        .arg(&out)
+        .arg(dir.join("out"))
         .args(extra)
         .stdin(Stdio::null())
         .stdout(so)
@@ -217,8 +244,8 @@ fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRec
     let mut child = match child {
         Ok(c) => c,
         Err(e) => {
-            r.message = format!("cannot start {}: {e}", bin.display());
-            return r;
+            o.message = format!("cannot start {}: {e}", bin.display());
+            return o;
         }
     };
     let status = loop {
@@ -227,21 +254,22 @@ fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRec
             Ok(None) if start.elapsed().as_secs_f64() > timeout => {
                 let _ = child.kill();
                 let _ = child.wait();
-                r.message = format!("timed out after {timeout} s");
+                o.message = format!("timed out after {timeout} s");
                 break None;
             }
             Ok(None) => std::thread::sleep(Duration::from_millis(20)),
             Err(e) => {
-                r.message = e.to_string();
+                o.message = e.to_string();
                 break None;
             }
         }
     };
-    r.seconds = start.elapsed().as_secs_f64();
-    r.exit_code = status.and_then(|s| s.code());
-    if r.exit_code != Some(0) && r.message.is_empty() {
-        let err = std::fs::read_to_string(g.dir.join("update.stderr")).unwrap_or_default();
-        r.message = err
+    o.seconds = start.elapsed().as_secs_f64();
+    o.exit_code = status.and_then(|s| s.code());
+    if o.exit_code != Some(0) && o.message.is_empty() {
+        let err =
+            std::fs::read_to_string(dir.join(format!("{command}.stderr"))).unwrap_or_default();
+        o.message = err
             .lines()
             .rev()
             .find(|l| !l.trim().is_empty())
@@ -249,7 +277,15 @@ fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRec
             .trim()
             .to_string();
     }
-    let report = std::fs::read_to_string(out.join("report.json"))
+    o
+}
+
+/// `frfup update model.deck test.uff --out DIR/out`, scored.
+fn run_case(bin: &Path, g: &Generated, timeout: f64, extra: &[String]) -> RunRecord {
+    let mut r = g.record.clone();
+    let o = run_frfup(bin, &g.dir, "update", timeout, extra);
+    (r.exit_code, r.seconds, r.message) = (o.exit_code, o.seconds, o.message);
+    let report = std::fs::read_to_string(g.dir.join("out/report.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok());
     if let Some(report) = report {
@@ -319,11 +355,14 @@ fn run(args: &Args) -> Result<(), String> {
     if !args.scatter.is_empty() {
         return scatter(args, &frfup_binary(args)?);
     }
-    let bin = if args.generate_only {
+    let bin = if args.generate_only || args.score_only {
         PathBuf::new()
     } else {
         frfup_binary(args)?
     };
+    if args.diagnose {
+        return diagnose::run(args, &bin);
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| format!("{}: {e}", args.out.display()))?;
     let t = Instant::now();
     let generated = parallel(args.cases, args.jobs, |i| generate_case(args, i));

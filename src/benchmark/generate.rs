@@ -1,9 +1,13 @@
 //! The case generator: a seed → structure, parameters, layout, damping,
 //! noise, format and band, then the simulated campaign.
 
+mod diagnose;
+mod effects;
 mod layout;
 mod params;
 mod structure;
+
+pub use diagnose::generate_diagnosis;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -30,6 +34,10 @@ pub struct GenOptions {
     pub effect: Effect,
     /// Most frequency lines of a case.
     pub max_lines: usize,
+    /// Section sizes × this (1: the update benchmark's slender members).
+    pub section_scale: f64,
+    /// Largest |p| of a true parameter value (drawn in ±[0.03, this]).
+    pub max_param_change: f64,
 }
 
 impl Default for GenOptions {
@@ -40,11 +48,35 @@ impl Default for GenOptions {
             bounds: false,
             effect: Effect::None,
             max_lines: 2000,
+            section_scale: 1.0,
+            max_param_change: 0.4,
         }
     }
 }
 
 impl GenOptions {
+    /// The diagnosis benchmark: 30–400 DOFs, at most 1000 lines (a
+    /// diagnosis fits many models per case), the deck's parameters wrong by
+    /// at most 25 % (`diagnose` calls a change above 30 % implausible, a
+    /// sign of missing physics).
+    pub fn diagnosis() -> Self {
+        GenOptions {
+            max_dofs: 400,
+            max_lines: 1000,
+            max_param_change: 0.25,
+            ..GenOptions::default()
+        }
+    }
+
+    /// Small diagnosis cases for the test suite: 30–60 DOFs, at most 300 lines.
+    pub fn small_diagnosis() -> Self {
+        GenOptions {
+            max_dofs: 60,
+            max_lines: 300,
+            ..GenOptions::diagnosis()
+        }
+    }
+
     /// Small cases for the test suite: 30–90 DOFs, at most 400 lines.
     pub fn small() -> Self {
         GenOptions {
@@ -114,6 +146,10 @@ pub struct Structure {
     pub masses: Vec<(u32, u32, f64)>,
     /// Spring id, node, DOF name, stiffness (N/m or N·m/rad).
     pub springs: Vec<(u32, u32, &'static str, f64)>,
+    /// Springs between two nodes: id, node, DOF, stiffness, other node.
+    pub links: Vec<(u32, u32, &'static str, f64, u32)>,
+    /// Every beam Timoshenko (`theory=timoshenko`) instead of Euler–Bernoulli.
+    pub timoshenko: bool,
     /// Node, DOF list (`all` or `x,z`...).
     pub fixes: Vec<(u32, String)>,
     pub damping: Option<DampingSpec>,
@@ -145,8 +181,17 @@ impl Structure {
         for b in &self.beams {
             let _ = writeln!(
                 s,
-                "beam {} {} {} {} {}",
-                b.id, b.n1, b.n2, self.materials[b.material].name, self.sections[b.section].name
+                "beam {} {} {} {} {}{}",
+                b.id,
+                b.n1,
+                b.n2,
+                self.materials[b.material].name,
+                self.sections[b.section].name,
+                if self.timoshenko {
+                    " theory=timoshenko"
+                } else {
+                    ""
+                }
             );
         }
         for (id, node, m) in &self.masses {
@@ -154,6 +199,9 @@ impl Structure {
         }
         for (id, node, dof, k) in &self.springs {
             let _ = writeln!(s, "spring {id} {node} {dof} k={k:e}");
+        }
+        for (id, node, dof, k, to) in &self.links {
+            let _ = writeln!(s, "spring {id} {node} {dof} k={k:e} to={to}");
         }
         for (node, dofs) in &self.fixes {
             let _ = writeln!(s, "fix {node} {dofs}");
@@ -223,9 +271,25 @@ pub struct Case {
     /// (suspension) if any.
     pub elastic_modes_hz: Vec<f64>,
     pub suspension_modes_hz: Vec<f64>,
-    pub effect: Effect,
+    /// What the truth has that the deck lacks (`[Effect::None]` for a
+    /// parameter-only case), and how visible each is.
+    pub effects: Vec<Effect>,
+    pub detectability: Vec<Detectability>,
     pub model_deck: String,
     pub truth_deck: String,
+    /// A case of the diagnosis benchmark ([`generate_diagnosis`]).
+    pub diagnosis: bool,
+}
+
+/// How visible an effect is in the case's test, without noise: `frf_change`
+/// = RMS over channels c and lines l of |H_effect − H_none| / (noise ×
+/// RMS_l |H_none,c|), i.e. the FRF change in units of the noise the case
+/// adds (noise alone gives 1); `freq_shift` = the largest relative shift of a
+/// band mode it causes (0 for damping and data errors).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Detectability {
+    pub frf_change: f64,
+    pub freq_shift: f64,
 }
 
 /// The seed of case `index` of a run with master seed `master`.
@@ -325,9 +389,11 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
         lines_hz: lines,
         elastic_modes_hz: elastic,
         suspension_modes_hz: truth_modes[..n_rb].to_vec(),
-        effect: opts.effect.clone(),
+        effects: vec![opts.effect.clone()],
+        detectability: Vec::new(),
         model_deck: model_text,
         truth_deck: truth_text,
+        diagnosis: false,
     })
 }
 
@@ -472,7 +538,9 @@ impl Case {
         let mut frfs = simulate::simulate(&truth, &values, &self.campaign())
             .map_err(|e| GenError(e.to_string()))?;
         let mut rng = Rng::new(self.seed ^ 0x5EED_DA7A);
-        self.effect.apply_to_data(&mut frfs, &mut rng);
+        for e in &self.effects {
+            e.apply_to_data(&mut frfs, &mut rng);
+        }
         Ok(frfs)
     }
 

@@ -8,23 +8,33 @@
 //! - [`score`]: a case's `report.json` (or an in-process update) against the
 //!   truth, and the summary table of a run.
 //!
-//! Extension: what the truth has that the model lacks is an [`Effect`],
-//! applied to the truth structure (and, for data errors, to the simulated
-//! FRFs). Parameter-only cases use [`Effect::None`].
+//! Extension: what the truth has that the model lacks is an [`Effect`]
+//! ([`effect`]), applied to the truth structure (and, for data errors, to the
+//! simulated FRFs). Parameter-only cases use [`Effect::None`]. The update
+//! benchmark's cases are parameter-only; [`generate_diagnosis`] makes the
+//! cases of the `frfup diagnose` benchmark (every class of the diagnosis
+//! dictionary and the data errors, alone, in pairs, and controls), scored by
+//! [`score_diagnosis`].
 //!
 //! Units are SI throughout; parameters p are relative changes (updated value =
 //! (1 + p) × deck value), as in the deck.
 
+pub mod diagnosis_summary;
+pub mod effect;
 pub mod generate;
 pub mod score;
+pub mod score_diagnosis;
 
-pub use generate::{case_seed, generate, Case, GenError, GenOptions, Structure};
+pub use diagnosis_summary::{diagnosis_summary_markdown, DiagRecord};
+pub use effect::Effect;
+pub use generate::{
+    case_seed, generate, generate_diagnosis, Case, GenError, GenOptions, Structure,
+};
 pub use score::{
     message_class, score_estimates, score_report, summary_markdown, CaseScore, ReportEstimate,
     RunRecord,
 };
-
-use crate::testdata::MeasuredFrfs;
+pub use score_diagnosis::{score_diagnosis, DiagScore, EffectScore};
 
 /// SplitMix64: a tiny, fast, well-mixed 64-bit generator. The same seed gives
 /// the same sequence on every machine (integer arithmetic only).
@@ -210,37 +220,6 @@ impl DampingSpec {
             DampingSpec::Modal { zeta } => zeta,
             DampingSpec::Rayleigh { alpha, beta } => alpha / (2.0 * w.max(1e-12)) + beta * w / 2.0,
             DampingSpec::Hysteretic { eta } => eta / 2.0,
-        }
-    }
-}
-
-/// What the truth has that the model deck leaves out. Applied to the truth
-/// structure before simulation ([`Effect::apply_to_structure`]) and to the
-/// simulated FRFs ([`Effect::apply_to_data`]), so that physics left out
-/// (added masses, joint flexibility, sensor masses, shear, suspension) and
-/// data errors (swapped or reversed channels) fit the same generator.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Effect {
-    /// Parameter-only case: the truth is the model deck at the true p.
-    None,
-}
-
-impl Effect {
-    pub fn name(&self) -> &'static str {
-        match self {
-            Effect::None => "none",
-        }
-    }
-    /// Change the truth structure (no-op for [`Effect::None`]).
-    pub fn apply_to_structure(&self, _truth: &mut generate::Structure, _rng: &mut Rng) {
-        match self {
-            Effect::None => {}
-        }
-    }
-    /// Change the simulated FRFs (no-op for [`Effect::None`]).
-    pub fn apply_to_data(&self, _frfs: &mut MeasuredFrfs, _rng: &mut Rng) {
-        match self {
-            Effect::None => {}
         }
     }
 }

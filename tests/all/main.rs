@@ -23,6 +23,7 @@ mod cli_progress;
 mod cli_shapes;
 mod cli_uff;
 mod data_errors;
+mod diagnose_benchmark;
 mod diagnose_cases;
 mod hostile_inputs;
 mod identification_closed_form;

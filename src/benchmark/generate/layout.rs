@@ -126,13 +126,13 @@ pub fn truth_json(c: &Case) -> serde_json::Value {
     let mut dirs: Vec<i32> = c.points.iter().map(|p| p.direction).collect();
     dirs.sort_unstable();
     dirs.dedup();
-    json!({
+    let mut out = json!({
         "seed": c.seed,
         "structure": c.structure.name(),
         "analysis": if c.plane { "plane" } else { "space" },
         "support": c.support.name(),
         "dofs": c.dofs,
-        "effect": c.effect.name(),
+        "effect": c.effects.first().map_or("none", |e| e.name()),
         "parameters": params,
         "layout": {
             "kind": c.layout.name(),
@@ -153,5 +153,28 @@ pub fn truth_json(c: &Case) -> serde_json::Value {
         },
         "elastic_modes_hz": c.elastic_modes_hz,
         "suspension_modes_hz": c.suspension_modes_hz,
-    })
+    });
+    if c.diagnosis {
+        if let Some(o) = out.as_object_mut() {
+            o.insert(
+                "effect".into(),
+                json!(super::diagnose::plan_name(&c.effects)),
+            );
+            let effects: Vec<serde_json::Value> = c
+                .effects
+                .iter()
+                .zip(&c.detectability)
+                .map(|(e, d)| {
+                    let mut v = e.truth_json();
+                    if let Some(o) = v.as_object_mut() {
+                        o.insert("frf_change".into(), json!(d.frf_change));
+                        o.insert("freq_shift".into(), json!(d.freq_shift));
+                    }
+                    v
+                })
+                .collect();
+            o.insert("effects".into(), json!(effects));
+        }
+    }
+    out
 }

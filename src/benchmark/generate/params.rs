@@ -85,7 +85,8 @@ fn visibility(st: &Structure, p: &ParamTruth, base: &[f64], count: usize) -> Res
 }
 
 /// Draw 2–6 parameters whose 10 % change moves a band mode by ≥ 0.3 %, with
-/// true values uniform in ±[0.03, 0.4]; with `opts.bounds`, half the cases
+/// true values uniform in ±[0.03, `opts.max_param_change`] (0.4 by
+/// default); with `opts.bounds`, half the cases
 /// get `min=-0.6 max=0.6` and some parameters `sd=0.5`.
 pub fn draw(
     st: &Structure,
@@ -103,7 +104,7 @@ pub fn draw(
         if out.len() == wanted {
             break;
         }
-        let magnitude = rng.range(0.03, 0.4);
+        let magnitude = rng.range(0.03, opts.max_param_change);
         let value = round_sig(
             if rng.chance(0.5) {
                 magnitude

@@ -146,6 +146,8 @@ pub fn build(
             beams: Vec::new(),
             masses: Vec::new(),
             springs: Vec::new(),
+            links: Vec::new(),
+            timoshenko: false,
             fixes: Vec::new(),
             damping: None,
             members: Vec::new(),
@@ -157,7 +159,7 @@ pub fn build(
             .push(draw_material(&format!("mat{}", i + 1), rng));
     }
     for i in 0..rng.int(1, 2) {
-        let d = scale * rng.range(1.0 / 40.0, 1.0 / 15.0);
+        let d = scale * opts.section_scale * rng.range(1.0 / 40.0, 1.0 / 15.0);
         b.st.sections
             .push(draw_section(&format!("sec{}", i + 1), d, rng));
     }
