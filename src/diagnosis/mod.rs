@@ -187,8 +187,9 @@ pub fn diagnose_with_progress(
     };
     // A row of the FRF matrix (roving hammer) is used as a column by
     // reciprocity; channels the model cannot place are ignored.
-    let (column, _) = crate::testdata::layout::as_column(test);
-    let (measured, mut ignored_channels) = search::placed_test_data(deck, &column)?;
+    let (column, layout) = crate::testdata::layout::as_column(test);
+    let roving = matches!(layout, crate::testdata::layout::Layout::RovingHammer { .. });
+    let (measured, mut ignored_channels) = search::placed_test_data(deck, &column, roving)?;
     // Data errors before physics: the rest runs on the corrected test.
     stage("checking each channel");
     let checked = data_errors::check(&measured, &fit::modal_model(deck, &measured)?);
@@ -196,7 +197,7 @@ pub fn diagnose_with_progress(
         (column, measured.clone())
     } else {
         let fixed = data_errors::correct::corrected(&column, &measured, &checked);
-        let (data, _) = search::placed_test_data(deck, &fixed)?;
+        let (data, _) = search::placed_test_data(deck, &fixed, roving)?;
         (fixed, data)
     };
     let test = &test;

@@ -117,9 +117,9 @@ impl<'a> Current<'a> {
         let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
         let large = fe.dofs.len() > 200;
         let mut sensor_nodes: Vec<u32> = data
-            .channels
-            .iter()
-            .map(|c| fe.sensors.get(&c.node).copied().unwrap_or(c.node))
+            .sensor_nodes()
+            .into_iter()
+            .map(|n| fe.sensors.get(&n).copied().unwrap_or(n))
             .collect();
         sensor_nodes.sort_unstable();
         sensor_nodes.dedup();

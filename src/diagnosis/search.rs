@@ -134,12 +134,16 @@ impl<'a> Search<'a> {
 }
 
 /// The test data restricted to the channels the model places (a free DOF
-/// at the channel's node and direction), and the labels of the others.
+/// at the channel's node and direction), and the labels of the others;
+/// `roving_hammer`: `test` is a row used as a column (the sensor sits at
+/// the excitation).
 pub(super) fn placed_test_data(
     deck: &Deck,
     test: &MeasuredFrfs,
+    roving_hammer: bool,
 ) -> Result<(TestData, Vec<String>), DiagnoseError> {
     let mut data = TestData::new(test)?;
+    data.sensor_at_input = roving_hammer;
     let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
     if fe.measured_dof(data.input.0, data.input.1).is_none() {
         return Err(DiagnoseError::Data(format!(

@@ -1,5 +1,7 @@
-//! `sensor-mass` (one lumped mass m, kg, at every measured node, the same
-//! value for all) and `added-mass` (a lumped mass at a node without sensor).
+//! `sensor-mass` (one lumped mass m, kg, at every node that carries a
+//! sensor, the same value for all: the response nodes, or the one
+//! accelerometer's of a roving-hammer test) and `added-mass` (a lumped mass
+//! at a node without sensor).
 
 use super::{Context, Extension, Hypothesis, ParamSpec, Physics};
 
@@ -24,10 +26,10 @@ pub fn sensor_mass(ctx: &Context) -> Vec<Hypothesis> {
         extension: Extension::Masses {
             nodes: ctx.sensor_nodes.clone(),
         },
-        label: format!(
-            "sensor-mass at the {} measured nodes",
-            ctx.sensor_nodes.len()
-        ),
+        label: match ctx.sensor_nodes.as_slice() {
+            [one] => format!("sensor-mass at node {one} (the sensor)"),
+            all => format!("sensor-mass at the {} measured nodes", all.len()),
+        },
     }]
 }
 

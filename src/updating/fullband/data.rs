@@ -39,6 +39,10 @@ pub struct TestData {
     pub input: (u32, i32),
     /// Resonances picked on the measured FRFs (half-power damping where found).
     pub resonances: Vec<Resonance>,
+    /// The sensors sit at the excitation's node, not at the channels' (a
+    /// roving-hammer row used as a column by reciprocity: the channels are
+    /// the hammer's points, the one accelerometer is at `input`).
+    pub sensor_at_input: bool,
 }
 
 /// Model tolerance floor of the relative error (1 %): keeps the sharpest
@@ -129,7 +133,21 @@ impl TestData {
             noise_r2,
             input,
             resonances: peaks,
+            sensor_at_input: false,
         })
+    }
+
+    /// Test nodes that carry a sensor: the channels' nodes, or the
+    /// excitation's when the test was a roving hammer.
+    pub fn sensor_nodes(&self) -> Vec<u32> {
+        let mut nodes: Vec<u32> = if self.sensor_at_input {
+            vec![self.input.0]
+        } else {
+            self.channels.iter().map(|c| c.node).collect()
+        };
+        nodes.sort_unstable();
+        nodes.dedup();
+        nodes
     }
 
     /// Median half-power damping ratio of the measured resonances (default 1 %).
