@@ -4,6 +4,13 @@
 //! |r|² by at most (r₀·Δr)²/|Δr|² (only for r₀·Δr < 0, a physical step).
 //! That fraction of |r₀|² is the candidate's score; node scores (the best
 //! candidate at each node) say where the model disagrees.
+//!
+//! The deck's own parameters compete on equal terms: their residual
+//! changes span a subspace P, and r₀ and every Δr are projected onto its
+//! orthogonal complement before scoring. A candidate then scores by what it
+//! explains that no change of the deck's parameters explains (a parameter
+//! error no longer lifts the extension that mimics it), and the score is
+//! the fraction of the projected |r₀|².
 
 use frfup_parsers::deck::Deck;
 
@@ -18,17 +25,76 @@ pub struct Probe {
     pub delta: Vec<f64>,
 }
 
+/// Relative change p̄ of a deck parameter at which its residual change is
+/// probed (5 %: inside the linear range of a stiffness or a density).
+const PARAMETER_PROBE: f64 = 0.05;
+
+/// Orthonormal basis of the residual changes of `base`'s own parameters
+/// (each probed at p̄ = 5 %; directions within 1e-6 of the span of the
+/// earlier ones dropped); empty when the deck has none.
+pub fn parameter_directions(
+    base: &Deck,
+    r0: &[f64],
+    damping: &DampingState,
+    data: &TestData,
+) -> Vec<Vec<f64>> {
+    let mask = Mask::all(data);
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    for p in &base.params {
+        let values = [(p.name.clone(), PARAMETER_PROBE)].into_iter().collect();
+        let deck = crate::model::updated_deck(base, &values);
+        let Ok(mm) = fit::modal_model(&deck, data) else {
+            continue;
+        };
+        let mut d = residual_change(&mm, damping, data, &mask, r0);
+        let n_before = dot(&d, &d);
+        if d.is_empty() || !(n_before > 0.0) {
+            continue;
+        }
+        for q in &basis {
+            let a = dot(&d, q);
+            d.iter_mut().zip(q).for_each(|(x, y)| *x -= a * y);
+        }
+        let n = dot(&d, &d);
+        if n > 1e-6 * n_before {
+            let s = n.sqrt();
+            d.iter_mut().for_each(|x| *x /= s);
+            basis.push(d);
+        }
+    }
+    basis
+}
+
+/// `v` with its components along the orthonormal `basis` removed.
+pub fn project_out(v: &[f64], basis: &[Vec<f64>]) -> Vec<f64> {
+    let mut out = v.to_vec();
+    for q in basis.iter().filter(|q| q.len() == v.len()) {
+        let a = dot(&out, q);
+        out.iter_mut().zip(q).for_each(|(x, y)| *x -= a * y);
+    }
+    out
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
 /// Probe every candidate that has a free parameter; candidates whose deck
-/// does not build get score 0.
+/// does not build get score 0. `r0` is the current residual; it and each
+/// Δr are projected off `basis` (the deck parameters' directions, see
+/// [`parameter_directions`]; empty: no projection) before scoring, and the
+/// probes keep the projected Δr.
 pub fn probe(
     base: &Deck,
     r0: &[f64],
+    basis: &[Vec<f64>],
     damping: &DampingState,
     data: &TestData,
     candidates: &[Hypothesis],
 ) -> Vec<Probe> {
     let mask = Mask::all(data);
-    let n0: f64 = r0.iter().map(|v| v * v).sum::<f64>().max(1e-300);
+    let r0p = project_out(r0, basis);
+    let n0: f64 = dot(&r0p, &r0p).max(1e-300);
     candidates
         .iter()
         .enumerate()
@@ -39,7 +105,8 @@ pub fn probe(
                 Ok(mm) => residual_change(&mm, damping, data, &mask, r0),
                 Err(_) => Vec::new(),
             };
-            let score = reduction(r0, &delta) / n0;
+            let delta = project_out(&delta, basis);
+            let score = reduction(&r0p, &delta) / n0;
             Probe {
                 index,
                 score,

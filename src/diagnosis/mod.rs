@@ -23,6 +23,7 @@ pub mod verdict;
 mod final_damping;
 mod first_stage;
 mod greedy;
+mod joint_screen;
 mod round;
 mod search;
 

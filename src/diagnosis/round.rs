@@ -9,6 +9,7 @@ use frfup_parsers::deck::Deck;
 
 use super::fit::{self, DampingState};
 use super::hypotheses::{self, Context, Hypothesis, Physics};
+use super::joint_screen::{self, frequency_seeded_with};
 use super::search::Search;
 use super::select::{Engine, FitRequest, HypFit, LogSearch};
 use super::{localise, refit, DiagnoseError};
@@ -38,6 +39,9 @@ struct Current<'a> {
     ctx: Context<'a>,
     /// More than 200 DOFs: smaller searches.
     large: bool,
+    /// The deck's own parameters are free (updated): candidates are scored
+    /// by what those cannot explain.
+    free_parameters: bool,
 }
 
 /// The round's candidates and their linear probes (index-aligned).
@@ -47,6 +51,9 @@ struct Screened {
     /// Candidates before this index are the main classes; the suspension
     /// single springs follow.
     n_main: usize,
+    /// The current residual off the deck parameters' directions (what the
+    /// probes are scored against).
+    r0: Vec<f64>,
 }
 
 /// One greedy round on `current` (damping `damp`): generate, screen, fit,
@@ -58,7 +65,8 @@ pub(super) fn search_round(
     used: &[String],
 ) -> Result<Round, DiagnoseError> {
     let engine = search.engine;
-    let cur = Current::new(engine, current, damp, used)?;
+    let mut cur = Current::new(engine, current, damp, used)?;
+    cur.free_parameters = search.updates_parameters();
     let screened = screen(engine, &cur);
     let localisation = node_localisation(&screened);
     let mut chosen = choose_by_score(&screened, search.opts.fitted_per_round);
@@ -80,6 +88,9 @@ pub(super) fn search_round(
     );
     if !cur.large {
         refit_with_deck_parameters(engine, &cur, &mut fitted);
+        let main = &screened.candidates[..screened.n_main];
+        let joint = joint_screen::best_joint_fits(engine, cur.deck, cur.damp, main, 3);
+        merge_fits(&mut fitted, joint);
     }
     let validated = validate_best(engine, &cur, &fitted, base_cost);
     Ok(Round {
@@ -137,6 +148,7 @@ impl<'a> Current<'a> {
             r0,
             ctx,
             large,
+            free_parameters: false,
         })
     }
 }
@@ -153,11 +165,24 @@ fn screen(engine: &Engine, cur: &Current) -> Screened {
     let n_main = candidates.len();
     candidates.extend(suspension_singles);
     candidates.retain(|h| !cur.used.contains(&h.label));
-    let probes = localise::probe(cur.deck, &cur.r0, cur.damp, engine.data, &candidates);
+    let basis = if cur.free_parameters {
+        localise::parameter_directions(cur.deck, &cur.r0, cur.damp, engine.data)
+    } else {
+        Vec::new()
+    };
+    let probes = localise::probe(
+        cur.deck,
+        &cur.r0,
+        &basis,
+        cur.damp,
+        engine.data,
+        &candidates,
+    );
     Screened {
         n_main: n_main.min(candidates.len()),
         candidates,
         probes,
+        r0: localise::project_out(&cur.r0, &basis),
     }
 }
 
@@ -263,7 +288,7 @@ fn choose_suspension_springs(
             .filter(|&i| candidates[i].dofs[0] == d)
             .map(|i| &probes[i])
             .collect();
-        let picked = localise::forward_select(&cur.r0, &set, 4);
+        let picked = localise::forward_select(&screened.r0, &set, 4);
         if picked.is_empty() {
             continue;
         }
@@ -395,6 +420,19 @@ fn refit_with_deck_parameters(engine: &Engine, cur: &Current, fitted: &mut [(Hyp
     fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
 }
 
+/// `extra` fits merged into `fitted`: a candidate already there keeps the
+/// lower-cost fit; best cost first.
+fn merge_fits(fitted: &mut Vec<(Hypothesis, HypFit)>, extra: Vec<(Hypothesis, HypFit)>) {
+    for (h, f) in extra {
+        match fitted.iter_mut().find(|(g, _)| g.label == h.label) {
+            Some(old) if f.cost < old.1.cost => old.1 = f,
+            Some(_) => {}
+            None => fitted.push((h, f)),
+        }
+    }
+    fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
+}
+
 /// Cross-validation of the five best fits that lower the cost below 97 % of
 /// `base_cost`: (hypothesis, fit, validation cost).
 fn validate_best(
@@ -441,40 +479,4 @@ fn frequency_seeded(
     grid: Option<&HypFit>,
 ) -> Option<HypFit> {
     frequency_seeded_with(engine, &refit::Joint::new(current, vec![h]), damp, grid)
-}
-
-/// As [`frequency_seeded`] for a one-extension problem that may fit the
-/// deck's parameters along (they start at 0).
-fn frequency_seeded_with(
-    engine: &Engine,
-    problem: &refit::Joint,
-    damp: &DampingState,
-    grid: Option<&HypFit>,
-) -> Option<HypFit> {
-    let (lo, hi) = problem.bounds();
-    let np = problem.deck_params.len();
-    let mut fixed = vec![None];
-    fixed.extend(std::iter::repeat_n(Some(0.0), np));
-    let mut starts = refit::grid_starts(&lo, &hi, &fixed, 7);
-    if let Some(s) = grid.and_then(|g| g.log_value) {
-        let mut x = vec![s];
-        x.extend(std::iter::repeat_n(0.0, np));
-        starts.push(x);
-    }
-    let settings = refit::JointSettings {
-        frequency_stage: true,
-        iterations: 10,
-    };
-    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)?;
-    let value = jf.logs[0].exp();
-    Some(HypFit {
-        value: Some(value),
-        log_value: Some(jf.logs[0]),
-        damping: jf.damping.clone(),
-        cost: jf.cost,
-        std: Some(jf.std_log[0] * value),
-        damping_std_log: vec![],
-        on_bound: jf.on_bound[0],
-        deck_values: jf.deck_values.clone(),
-    })
 }
