@@ -91,7 +91,7 @@ fn entity_notes(named: &[(usize, String, &Function58)]) -> Vec<String> {
 fn channel_notes(frfs: &MeasuredFrfs) -> Vec<String> {
     let mut notes = Vec::new();
     let mut seen: Vec<(i64, i32, i64, i32)> = Vec::new();
-    let mut references: Vec<((i64, i32), usize)> = Vec::new();
+    let mut references: Vec<(i64, i32)> = Vec::new();
     for c in &frfs.channels {
         let key = (
             c.response_node,
@@ -109,21 +109,13 @@ fn channel_notes(frfs: &MeasuredFrfs) -> Vec<String> {
             seen.push(key);
         }
         let r = (c.reference_node, c.reference_direction);
-        match references.iter_mut().find(|(q, _)| *q == r) {
-            Some((_, n)) => *n += 1,
-            None => references.push((r, 1)),
+        if !references.contains(&r) {
+            references.push(r);
         }
     }
     if references.len() > 1 {
-        let list: Vec<String> = references
-            .iter()
-            .map(|((n, d), k)| format!("{} ({k} channel(s))", dof_label(*n, *d)))
-            .collect();
-        notes.push(format!(
-            "the FRFs have {} references: {}; only the channels of the excitation are used",
-            references.len(),
-            list.join(", ")
-        ));
+        // What the consumers do with several references, in the layout's words.
+        notes.push(super::layout::as_column(frfs).1.to_string());
     }
     notes
 }

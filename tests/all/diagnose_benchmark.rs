@@ -161,3 +161,26 @@ fn diagnosis_subset() {
 /// added mass with a data error of each of two kinds, data errors alone, a
 /// flexible support (about 17 s in all in the test profile).
 const SUBSET: [u64; 8] = [0, 3, 4, 7, 9, 12, 13, 15];
+
+/// A roving-hammer campaign (case 12 of the subset: one accelerometer at
+/// 8+x, the hammer at 11 DOFs) is read with a note that names the layout
+/// and what is done with it, not a warning that channels are dropped.
+#[test]
+fn a_roving_hammer_campaign_is_named_as_such_when_read() {
+    let c = case(12);
+    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
+    let loaded = frfup::testdata::from_uff_with_notes(&file, Path::new("test.uff")).unwrap();
+    let layout: Vec<_> = loaded
+        .notes
+        .iter()
+        .filter(|n| n.contains("roving hammer"))
+        .collect();
+    assert_eq!(layout.len(), 1, "{:?}", loaded.notes);
+    assert!(
+        layout[0].contains("11 impact point(s), response at 8+x")
+            && layout[0].contains("by reciprocity"),
+        "{}",
+        layout[0]
+    );
+    assert!(loaded.notes.iter().all(|n| !n.contains("references:")));
+}
