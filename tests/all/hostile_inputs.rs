@@ -478,7 +478,8 @@ fn a_time_record_and_a_second_reference_among_frfs_are_warned() {
             "dataset #2",
             "time record",
             "not an FRF: skipped",
-            "2 references",
+            // The second reference makes the two FRFs a row of H.
+            "roving hammer: 2 impact point(s)",
         ],
     );
 }
