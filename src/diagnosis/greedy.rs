@@ -100,7 +100,7 @@ impl Greedy {
     fn take_round(&mut self, search: &Search, round: usize, step: Round) -> bool {
         let (engine, opts, j0) = (search.engine, search.opts, search.j0);
         let m = select::margin(self.v, j0);
-        let mut scored = self.judge(round, step.validated, m);
+        let mut scored = self.judge(round, step.validated, m, step.parameters_only);
         scored.sort_by(|a, b| a.2.total_cmp(&b.2));
         // Two effects can mask each other so that neither fits alone: when
         // the best single extension leaves the fit far from the noise level,
@@ -138,15 +138,20 @@ impl Greedy {
     /// The validated candidates that pass (their fit inside the bounds, the
     /// uncertainty below the value, the validation error below the current
     /// one by more than the margin `m`); the others are recorded as rejected.
+    /// A candidate fitted along with the deck's parameters must also beat
+    /// those parameters refitted alone (`parameters_only`, a validation
+    /// cost): the parameter-only explanation competes on equal terms.
     fn judge(
         &mut self,
         round: usize,
         validated: Vec<(Hypothesis, HypFit, f64)>,
         m: f64,
+        parameters_only: Option<f64>,
     ) -> Vec<(Hypothesis, HypFit, f64)> {
         let v_cur = self.v;
         let mut scored = Vec::new();
         for (h, f, v) in validated {
+            let v_params = parameters_only.filter(|vp| !f.deck_values.is_empty() && *vp < v_cur);
             let reason = if f.on_bound {
                 Some("fit ends on a bound".to_string())
             } else if f.std.is_some_and(|s| !(s < f.value.unwrap_or(0.0))) {
@@ -157,7 +162,11 @@ impl Greedy {
                     v_cur
                 ))
             } else {
-                None
+                v_params.filter(|vp| !(v < vp - m)).map(|vp| {
+                    format!(
+                        "validation error {v:.4} not below {vp:.4} (the deck's parameters refitted alone) − margin {m:.4}"
+                    )
+                })
             };
             match reason {
                 Some(r) => self.rejected.push(Rejected {

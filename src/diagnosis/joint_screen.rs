@@ -122,3 +122,62 @@ pub(super) fn frequency_seeded_with(
         deck_values: jf.deck_values.clone(),
     })
 }
+
+/// A hypothesis without a parameter (shear deformation) on `base`, with the
+/// deck's parameters fitted along from 0 (resonance stage, then the FRFs):
+/// without them, a model whose parameters are also wrong leaves the
+/// hypothesis no chance against one that has a parameter to absorb them.
+pub(super) fn parameterless_with_deck(
+    engine: &Engine,
+    base: &Deck,
+    h: &Hypothesis,
+    damp: &DampingState,
+) -> Option<HypFit> {
+    let problem = Joint::with_deck_parameters(base, vec![h]);
+    if h.param.is_some() || problem.deck_params.is_empty() {
+        return None;
+    }
+    let jf = deck_parameters_fit(engine, &problem, damp)?;
+    Some(HypFit {
+        value: None,
+        log_value: None,
+        damping: jf.damping.clone(),
+        cost: jf.cost,
+        std: None,
+        damping_std_log: vec![],
+        on_bound: false,
+        deck_values: jf.deck_values.clone(),
+    })
+}
+
+/// The validation cost of `base` with only the deck's parameters refitted
+/// (no extension), or `None` when the deck has none: what a candidate
+/// fitted along with those parameters has to beat, so that it competes
+/// with the parameter-only explanation on equal terms.
+pub(super) fn parameters_only_validation(
+    engine: &Engine,
+    base: &Deck,
+    damp: &DampingState,
+) -> Option<f64> {
+    let problem = Joint::with_deck_parameters(base, vec![]);
+    if problem.deck_params.is_empty() {
+        return None;
+    }
+    let jf = deck_parameters_fit(engine, &problem, damp)?;
+    Some(refit::validate_joint(engine, &problem, &jf))
+}
+
+/// The deck's parameters of `problem` (no extension parameter) fitted from
+/// p̄ = 0: resonance stage, then the FRFs with the damping.
+fn deck_parameters_fit(
+    engine: &Engine,
+    problem: &Joint,
+    damp: &DampingState,
+) -> Option<refit::JointFit> {
+    let starts = vec![vec![0.0; problem.deck_params.len()]];
+    let settings = JointSettings {
+        frequency_stage: true,
+        iterations: 10,
+    };
+    refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)
+}

@@ -25,6 +25,9 @@ pub(super) struct Round {
     pub localisation: Vec<(u32, f64, String)>,
     /// The model has more than 200 DOFs (smaller searches).
     pub large: bool,
+    /// The validation cost of the current model with the deck's parameters
+    /// refitted alone (computed when a candidate was fitted along with them).
+    pub parameters_only: Option<f64>,
 }
 
 /// The current model as a round sees it.
@@ -86,18 +89,24 @@ pub(super) fn search_round(
             .fit(&FitRequest::damping(current, damp, &engine.all))
             .map_or(f64::INFINITY, |f| f.cost),
     );
+    refit_with_deck_parameters(engine, &cur, &mut fitted);
     if !cur.large {
-        refit_with_deck_parameters(engine, &cur, &mut fitted);
         let main = &screened.candidates[..screened.n_main];
         let joint = joint_screen::best_joint_fits(engine, cur.deck, cur.damp, main, 3);
         merge_fits(&mut fitted, joint);
     }
     let validated = validate_best(engine, &cur, &fitted, base_cost);
+    let parameters_only = if validated.iter().any(|(_, f, _)| !f.deck_values.is_empty()) {
+        joint_screen::parameters_only_validation(engine, current, damp)
+    } else {
+        None
+    };
     Ok(Round {
         validated,
         fitted,
         localisation,
         large: cur.large,
+        parameters_only,
     })
 }
 
@@ -399,22 +408,28 @@ fn fit_in_full(
 }
 
 /// The deck's own parameters may have absorbed part of the missing effect
-/// in the update: the three best candidates are fitted again with them free
-/// (decks with one to six parameters), kept where the cost falls.
+/// in the update: the three best candidates with a parameter, and every
+/// candidate without one (shear deformation), are fitted again with them
+/// free (decks with one to six parameters; on models over 200 DOFs the two
+/// best with a parameter), kept where the cost falls.
 fn refit_with_deck_parameters(engine: &Engine, cur: &Current, fitted: &mut [(Hypothesis, HypFit)]) {
     let np = cur.deck.params.len();
     if !(1..=6).contains(&np) {
         return;
     }
-    for (h, f) in fitted.iter_mut().take(3) {
-        if h.param.is_none() {
-            continue;
-        }
-        let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
-        if let Some(g) = frequency_seeded_with(engine, &problem, cur.damp, Some(f)) {
-            if g.cost < f.cost {
-                *f = g;
-            }
+    let mut with_param = 0;
+    for (h, f) in fitted.iter_mut() {
+        let g = if h.param.is_none() {
+            joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
+        } else if with_param < if cur.large { 2 } else { 3 } {
+            with_param += 1;
+            let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
+            frequency_seeded_with(engine, &problem, cur.damp, Some(f))
+        } else {
+            None
+        };
+        if let Some(g) = g.filter(|g| g.cost < f.cost) {
+            *f = g;
         }
     }
     fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
@@ -450,10 +465,11 @@ fn validate_best(
             engine.validate(Some(h), cur.deck, f)
         } else {
             let problem = refit::Joint::with_deck_parameters(cur.deck, vec![h]);
-            let mut x = vec![f.log_value.unwrap_or(0.0)];
+            let logs: Vec<f64> = f.log_value.into_iter().collect();
+            let mut x = logs.clone();
             x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
             let jf = refit::JointFit {
-                logs: vec![x[0]],
+                logs,
                 deck_values: f.deck_values.clone(),
                 x,
                 damping: f.damping.clone(),
