@@ -5,7 +5,8 @@ use std::path::{Path, PathBuf};
 use crate::cli_support::{cantilever_case, frfup};
 
 fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-batch-{}-{name}", std::process::id()));
+    let dir = crate::cli_support::scratch_root()
+        .join(format!("frfup-cli-batch-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir

@@ -4,7 +4,8 @@ use std::process::Command;
 
 #[test]
 fn demo_runs_end_to_end_and_improves_the_correlation() {
-    let out_dir = std::env::temp_dir().join(format!("frfup-demo-{}", std::process::id()));
+    let out_dir =
+        crate::cli_support::scratch_root().join(format!("frfup-demo-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&out_dir);
     let out = Command::new(env!("CARGO_BIN_EXE_frfup"))
         .args(["demo", "--verbose", "--out", out_dir.to_str().unwrap()])

@@ -4,6 +4,13 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+/// Where the tests write their scratch folders: Cargo's per-target test
+/// directory (inside `target/`, removed by `cargo clean`), not the system's
+/// temporary directory, which would collect a folder per test per run.
+pub fn scratch_root() -> PathBuf {
+    PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
+}
+
 /// Run `frfup` with `args`, stderr not a terminal, `CI` set.
 pub fn frfup(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_frfup"))
@@ -36,7 +43,7 @@ pub fn fixture(rel: &str) -> String {
 
 /// A fresh, empty folder for one test.
 pub fn workdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-{}-{name}", std::process::id()));
+    let dir = scratch_root().join(format!("frfup-cli-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
@@ -72,7 +79,7 @@ pub fn cantilever_case(dir: &Path) -> (String, String) {
 /// A path `name` in this process's scratch folder for the tests of `module`
 /// (created; files of one module share it, so names must differ).
 pub fn scratch(module: &str, name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-cli-{module}-{}", std::process::id()));
+    let dir = scratch_root().join(format!("frfup-cli-{module}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

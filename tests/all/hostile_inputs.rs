@@ -85,7 +85,8 @@ fn fixture(rel: &str) -> String {
 }
 
 fn tmp_dir() -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("frfup-hostile-{}", std::process::id()));
+    let dir =
+        crate::cli_support::scratch_root().join(format!("frfup-hostile-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }

@@ -11,8 +11,8 @@ fn root() -> PathBuf {
 }
 
 fn workdir(name: &str) -> PathBuf {
-    let dir =
-        std::env::temp_dir().join(format!("frfup-report-status-{}-{name}", std::process::id()));
+    let dir = crate::cli_support::scratch_root()
+        .join(format!("frfup-report-status-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
