@@ -21,6 +21,7 @@ pub mod select;
 pub mod verdict;
 
 mod final_damping;
+pub use final_damping::{identified_disagreement, DAMPING_AGREEMENT};
 mod first_stage;
 mod greedy;
 mod joint_screen;

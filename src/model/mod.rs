@@ -129,6 +129,18 @@ impl Damping {
         }
     }
 
+    /// Equivalent viscous damping ratio of a mode at `f_hz` (Hz): 0 (none),
+    /// ζ (modal), α/(2ω) + βω/2 (Rayleigh), η/2 (hysteretic, at resonance).
+    pub fn ratio_at(self, f_hz: f64) -> f64 {
+        let w = (2.0 * std::f64::consts::PI * f_hz).max(1e-12);
+        match self {
+            Damping::None => 0.0,
+            Damping::Modal { zeta } => zeta,
+            Damping::Rayleigh { alpha, beta } => alpha / (2.0 * w) + beta * w / 2.0,
+            Damping::Hysteretic { eta } => eta / 2.0,
+        }
+    }
+
     /// d_r(ω) of a mass-normalised mode in the modal FRF
     /// H_jk(ω) = Σ_r φ_jr φ_kr / d_r(ω): d_r = ω_r² − ω² + i c_r(ω) with
     /// c_r = 0 (none), 2ζω_rω (modal), ω(α + βω_r²) (Rayleigh, C = αM + βK)
