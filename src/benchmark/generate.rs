@@ -323,33 +323,18 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
     if support == Support::FreeFree {
         structure::suspend(&mut st, rng)?;
     }
-    let nominal = parse_deck(&st.deck_text("nominal", &[]))?;
-    let base = modes_hz(&nominal, &ParameterValues::new(), 40)?;
-    let n_rb = match (support, st.plane) {
-        (Support::FreeFree, true) => 3,
-        (Support::FreeFree, false) => 6,
-        _ => 0,
-    };
-    if base.len() < n_rb + n_modes + 1 {
-        return Err(format!("only {} modes", base.len()));
-    }
-    let damping = rescale_rayleigh(draw_damping(rng), base[n_rb], base[n_rb + n_modes - 1]);
-    st.damping = Some(damping);
-    let params = params::draw(&st, &base, n_rb, n_modes, rng, opts)?;
-    let values: ParameterValues = params.iter().map(|p| (p.name.clone(), p.value)).collect();
+    let Drawn {
+        nominal,
+        n_rb,
+        damping,
+        params,
+        values,
+        ..
+    } = draw_damping_and_parameters(&mut st, n_modes, rng, opts)?;
     let mut truth_st = st.clone();
     opts.effect.apply_to_structure(&mut truth_st, rng);
     // The truth deck carries no bounds (only the model deck has them).
-    let bare: Vec<ParamTruth> = params
-        .iter()
-        .map(|p| ParamTruth {
-            min: None,
-            max: None,
-            sd: None,
-            ..p.clone()
-        })
-        .collect();
-    let truth_text = truth_st.deck_text("truth", &bare);
+    let truth_text = truth_st.deck_text("truth", &effects::bare(&params));
     let truth = parse_deck(&truth_text)?;
     let truth_modes = modes_hz(&truth, &values, n_rb + n_modes + 1)?;
     if truth_modes.len() < n_rb + n_modes + 1 {
@@ -400,6 +385,51 @@ fn try_case(seed: u64, rng: &mut Rng, opts: &GenOptions) -> Result<Case, String>
 /// Parse generated deck text (an error here is a generator bug).
 pub fn parse_deck(text: &str) -> Result<Deck, String> {
     deck::parse(text).map_err(|e| format!("generated deck does not parse: {e}"))
+}
+
+/// What every case draws once its structure stands.
+struct Drawn {
+    /// The structure's deck without parameters.
+    nominal: Deck,
+    /// Rigid-body (suspension) modes before the first elastic one.
+    n_rb: usize,
+    /// The damping drawn (also set on the structure).
+    damping: DampingSpec,
+    /// The deck's parameters with their true values.
+    params: Vec<ParamTruth>,
+    values: ParameterValues,
+}
+
+/// The nominal deck and its modes, the damping (drawn, rescaled to the
+/// `n_modes` elastic modes of the band, and set on `st`) and the deck's
+/// parameters with their true values, in this order of draws from `rng`.
+fn draw_damping_and_parameters(
+    st: &mut Structure,
+    n_modes: usize,
+    rng: &mut Rng,
+    opts: &GenOptions,
+) -> Result<Drawn, String> {
+    let nominal = parse_deck(&st.deck_text("nominal", &[]))?;
+    let base = modes_hz(&nominal, &ParameterValues::new(), 40)?;
+    let n_rb = match (st.support, st.plane) {
+        (Support::FreeFree, true) => 3,
+        (Support::FreeFree, false) => 6,
+        _ => 0,
+    };
+    if base.len() < n_rb + n_modes + 1 {
+        return Err(format!("only {} modes", base.len()));
+    }
+    let damping = rescale_rayleigh(draw_damping(rng), base[n_rb], base[n_rb + n_modes - 1]);
+    st.damping = Some(damping);
+    let params = params::draw(st, &base, n_rb, n_modes, rng, opts)?;
+    let values: ParameterValues = params.iter().map(|p| (p.name.clone(), p.value)).collect();
+    Ok(Drawn {
+        nominal,
+        n_rb,
+        damping,
+        params,
+        values,
+    })
 }
 
 /// The `count` lowest natural frequencies (Hz) of `deck` at `values`.

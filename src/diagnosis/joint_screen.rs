@@ -22,6 +22,13 @@ use super::select::{Engine, HypFit};
 /// Levenberg–Marquardt iterations of the frequency stage of the screen.
 const SCREEN_ITERATIONS: usize = 8;
 
+/// A full joint fit: resonance-frequency stage, then the FRFs, 10
+/// Levenberg–Marquardt iterations each.
+const FULL_FIT: JointSettings = JointSettings {
+    frequency_stage: true,
+    iterations: 10,
+};
+
 /// The `take` candidates of `candidates` (those with a parameter, no
 /// suspension springs) that the joint screen ranks best on `base`, each
 /// fitted in full with the deck's parameters along; best cost first.
@@ -105,11 +112,7 @@ pub(super) fn frequency_seeded_with(
         x.extend(std::iter::repeat_n(0.0, np));
         starts.push(x);
     }
-    let settings = JointSettings {
-        frequency_stage: true,
-        iterations: 10,
-    };
-    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)?;
+    let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, FULL_FIT)?;
     let value = jf.logs[0].exp();
     Some(HypFit {
         value: Some(value),
@@ -175,9 +178,5 @@ fn deck_parameters_fit(
     damp: &DampingState,
 ) -> Option<refit::JointFit> {
     let starts = vec![vec![0.0; problem.deck_params.len()]];
-    let settings = JointSettings {
-        frequency_stage: true,
-        iterations: 10,
-    };
-    refit::fit_joint(engine, problem, &starts, damp, &engine.all, settings)
+    refit::fit_joint(engine, problem, &starts, damp, &engine.all, FULL_FIT)
 }

@@ -11,8 +11,8 @@
 
 use super::effects::{self, bare, Setting};
 use super::{
-    draw_axis, draw_damping, layout, modes_hz, params, parse_deck, rescale_rayleigh, structure,
-    Case, GenError, GenOptions,
+    draw_axis, draw_damping_and_parameters, layout, modes_hz, parse_deck, structure, Case, Drawn,
+    GenError, GenOptions,
 };
 use crate::benchmark::effect::CLASSES;
 use crate::benchmark::{round_sig, Effect, LayoutKind, Rng, StructureKind, Support};
@@ -94,20 +94,14 @@ fn draw_structure(
 fn try_case(seed: u64, plan: &[&str], rng: &mut Rng, opts: &GenOptions) -> Result<Case, String> {
     let (mut st, stocky) = draw_structure(plan, rng, opts)?;
     let n_modes = rng.int(4, 8);
-    let nominal = parse_deck(&st.deck_text("nominal", &[]))?;
-    let base = modes_hz(&nominal, &ParameterValues::new(), 40)?;
-    let n_rb = match (st.support, st.plane) {
-        (Support::FreeFree, true) => 3,
-        (Support::FreeFree, false) => 6,
-        _ => 0,
-    };
-    if base.len() < n_rb + n_modes + 1 {
-        return Err(format!("only {} modes", base.len()));
-    }
-    let damping = rescale_rayleigh(draw_damping(rng), base[n_rb], base[n_rb + n_modes - 1]);
-    st.damping = Some(damping);
-    let params = params::draw(&st, &base, n_rb, n_modes, rng, opts)?;
-    let values: ParameterValues = params.iter().map(|p| (p.name.clone(), p.value)).collect();
+    let Drawn {
+        nominal,
+        n_rb,
+        damping,
+        params,
+        values,
+        ..
+    } = draw_damping_and_parameters(&mut st, n_modes, rng, opts)?;
     let fe = model::build(&nominal, &ParameterValues::new()).map_err(|e| e.to_string())?;
     let (layout, fixed, points) = layout::draw(&st, &fe, rng)?;
     let ref_deck = parse_deck(&st.deck_text("reference", &bare(&params)))?;
