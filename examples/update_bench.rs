@@ -20,7 +20,7 @@ use frfup::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use frfup::solvers::frf::modal_receptance;
 use frfup::testdata::{self, Channel, FrfKind, MeasuredFrfs};
 use frfup::updating::measured::MeasuredDofs;
-use frfup::updating::{update, update_with_progress, UpdateOptions};
+use frfup::updating::{update, update_with_progress, UpdateOptions, UpdateProgress};
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -189,8 +189,10 @@ fn lattice(deck_path: &str, n_params: usize, n_sensors: usize) {
     };
     let mut stamps = Vec::new();
     let t = Instant::now();
-    let r = update_with_progress(&deck, &test, &opts, &mut |rec| {
-        stamps.push((rec.index, t.elapsed().as_secs_f64()))
+    let r = update_with_progress(&deck, &test, &opts, &mut |event| {
+        if let UpdateProgress::Iteration(rec) = event {
+            stamps.push((rec.index, t.elapsed().as_secs_f64()))
+        }
     })
     .expect("update");
     let total_s = t.elapsed().as_secs_f64();

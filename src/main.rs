@@ -14,7 +14,7 @@ use frfup::tasks::update::Thresholds;
 use frfup::tasks::{update, CommandError};
 use frfup::testdata::FrfKind;
 use frfup::updating::options::finite;
-use frfup::updating::{UpdateMethod, UpdateSettings};
+use frfup::updating::{IterationStage, UpdateMethod, UpdateProgress, UpdateSettings};
 use std::sync::Mutex;
 
 #[derive(Parser)]
@@ -349,7 +349,7 @@ fn run(cli: Cli) -> Result<(), CommandError> {
             Ok(())
         }
         Command::Convert(a) => convert(a, &g),
-        Command::Modes(a) => modes(a),
+        Command::Modes(a) => modes(a, &g),
         Command::Simulate(a) => simulate(a, &g),
         Command::Update(a) => update(a, &g),
         Command::Diagnose(a) => diagnose(a, &g),
@@ -362,9 +362,7 @@ fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
     frfup::fsio::check_out_folder(&a.out).map_err(CommandError::input)?;
     let start = std::time::Instant::now();
     let reporter = StepReporter::new(g.progress, 21, "iteration");
-    let result = commands::demo::run(&a.out, &mut |rec| {
-        reporter.step(&iteration_line(rec));
-    });
+    let result = commands::demo::run(&a.out, &mut |event| show_update_progress(&reporter, event));
     reporter.finish();
     let (outcome, report) = result?;
     print_timings(g.verbose, &outcome);
@@ -406,16 +404,22 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
     Ok(())
 }
 
-fn modes(a: ModesArgs) -> Result<(), CommandError> {
+fn modes(a: ModesArgs, g: &Global) -> Result<(), CommandError> {
     let values = commands::modes::parse_settings(&a.set)?;
-    let rows = commands::modes::run(&commands::modes::ModesOptions {
-        deck: a.deck.clone(),
-        count: a.count,
-        csv: a.csv,
-        shapes: a.shapes,
-        uff: a.uff,
-        values,
-    })?;
+    let reporter = StageReporter::new(g.progress);
+    let rows = commands::modes::run(
+        &commands::modes::ModesOptions {
+            deck: a.deck.clone(),
+            count: a.count,
+            csv: a.csv,
+            shapes: a.shapes,
+            uff: a.uff,
+            values,
+        },
+        &|s| reporter.stage(s),
+    );
+    reporter.finish();
+    let rows = rows?;
     if a.json {
         print_json(&commands::modes::json(&a.deck, &rows));
     } else {
@@ -449,14 +453,20 @@ fn simulate(a: SimulateArgs, g: &Global) -> Result<(), CommandError> {
         noise: a.noise,
         seed: a.seed,
     };
-    let n = sim::run(&sim::SimulateOptions {
-        deck: a.deck,
-        out: a.out.clone(),
-        campaign,
-        values: commands::modes::parse_settings(&a.set)?,
-        binary: a.binary,
-        single: a.single,
-    })?;
+    let reporter = StageReporter::new(g.progress);
+    let n = sim::run(
+        &sim::SimulateOptions {
+            deck: a.deck,
+            out: a.out.clone(),
+            campaign,
+            values: commands::modes::parse_settings(&a.set)?,
+            binary: a.binary,
+            single: a.single,
+        },
+        &|s| reporter.stage(s),
+    );
+    reporter.finish();
+    let n = n?;
     if !g.quiet {
         eprintln!("wrote {n} FRF record(s) to {}", a.out.display());
     }
@@ -472,9 +482,7 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         strict: g.strict,
     };
     let reporter = StepReporter::new(g.progress, cmd.options.max_iter as u64 + 1, "iteration");
-    let result = update::run(&cmd, &mut |rec| {
-        reporter.step(&iteration_line(rec));
-    });
+    let result = update::run(&cmd, &mut |event| show_update_progress(&reporter, event));
     reporter.finish();
     let outcome = result?;
     print_timings(g.verbose, &outcome);
@@ -495,6 +503,18 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
         )));
     }
     check_thresholds(&outcome, a.thresholds)
+}
+
+/// An update's progress on the bar: a step per scored iteration, and the
+/// name of the full-band estimate while it runs (it scores nothing until it
+/// ends).
+fn show_update_progress(reporter: &StepReporter, event: UpdateProgress) {
+    match event {
+        UpdateProgress::Iteration(rec) => reporter.step(&iteration_line(rec)),
+        UpdateProgress::EstimateStarted => {
+            reporter.note("full-band estimate: all lines and channels, damping identified along")
+        }
+    }
 }
 
 /// A `--json` summary on stdout, pretty-printed, one value.
@@ -688,9 +708,13 @@ fn print_warnings(outcome: &update::UpdateOutcome) {
 
 fn iteration_line(rec: &frfup::updating::IterationRecord) -> String {
     let step = rec.step.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    let what = match rec.stage {
+        IterationStage::Estimate => "full-band estimate".to_string(),
+        _ => format!("iteration {}", rec.index),
+    };
     format!(
-        "iteration {}: SFDAC mean {:.4} min {:.4}, max |p| {:.3e}",
-        rec.index, rec.sfdac.mean, rec.sfdac.min, step
+        "{what}: SFDAC mean {:.4} min {:.4}, max |p| {:.3e}",
+        rec.sfdac.mean, rec.sfdac.min, step
     )
 }
 

@@ -28,7 +28,7 @@ pub fn demo_options() -> UpdateOptions {
 /// their final paths in `out`.
 pub fn run(
     out: &Path,
-    progress: &mut dyn FnMut(&crate::updating::IterationRecord),
+    progress: &mut dyn FnMut(crate::updating::UpdateProgress),
 ) -> Result<(UpdateOutcome, PathBuf), CommandError> {
     crate::fsio::check_out_folder(out).map_err(CommandError::input)?;
     let shown = Shown {

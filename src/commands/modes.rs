@@ -34,11 +34,16 @@ pub struct ModeRow {
 }
 
 /// Solve the deck's lowest modes.
-pub fn solve(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
+pub fn solve(opts: &ModesOptions, stage: &dyn Fn(&str)) -> Result<Vec<ModeRow>, CommandError> {
     let deck = read_deck(&opts.deck)?;
     check_settings(&opts.deck, &deck, &opts.values)?;
     let fe = model::build(&deck, &opts.values).map_err(|e| model_error(&opts.deck, e))?;
     model::check_mass(&fe).map_err(|e| model_error(&opts.deck, e))?;
+    stage(&format!(
+        "computing {} mode(s) of a {}-DOF model",
+        opts.count,
+        fe.dofs.equations.len()
+    ));
     let modes = lowest_modes(
         &fe.stiffness,
         &fe.mass,
@@ -137,10 +142,10 @@ pub fn csv_text(rows: &[ModeRow]) -> String {
     s
 }
 
-/// Run `frfup modes`: solve, write `--csv` if asked; returns the rows to
+/// Run `frfup modes` (telling `stage` what it is doing): solve, write `--csv` if asked; returns the rows to
 /// print ([`table`] or [`json`]).
-pub fn run(opts: &ModesOptions) -> Result<Vec<ModeRow>, CommandError> {
-    let rows = solve(opts)?;
+pub fn run(opts: &ModesOptions, stage: &dyn Fn(&str)) -> Result<Vec<ModeRow>, CommandError> {
+    let rows = solve(opts, stage)?;
     if let Some(csv) = &opts.csv {
         write_atomic(csv, csv_text(&rows).as_bytes()).map_err(|e| CommandError::output(csv, e))?;
     }

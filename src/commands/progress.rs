@@ -129,6 +129,16 @@ impl StepReporter {
         }
     }
 
+    /// A stage starts that is not a step (its message replaces the last
+    /// step's until the next step).
+    pub fn note(&self, message: &str) {
+        match self {
+            StepReporter::Bar(bar) => bar.set_message(message.to_string()),
+            StepReporter::Lines => eprintln!("{message}"),
+            StepReporter::Silent => {}
+        }
+    }
+
     /// Clear the bar.
     pub fn finish(&self) {
         if let StepReporter::Bar(bar) = self {

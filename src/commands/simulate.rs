@@ -117,15 +117,25 @@ pub fn parse_sensors(s: &str) -> Result<Sensors, CommandError> {
         .map(Sensors::List)
 }
 
-/// Run `frfup simulate`: returns how many records were written.
-pub fn run(opts: &SimulateOptions) -> Result<usize, CommandError> {
+/// Run `frfup simulate`, telling `stage` what it is doing: returns how many records were written.
+pub fn run(opts: &SimulateOptions, stage: &dyn Fn(&str)) -> Result<usize, CommandError> {
     let deck = read_deck(&opts.deck)?;
     check_settings(&opts.deck, &deck, &opts.values)?;
     check_size(&deck, &opts.campaign)?;
+    stage(&format!(
+        "computing the FRFs of {} at {} line(s)",
+        opts.deck.display(),
+        opts.campaign.band.count
+    ));
     let frfs = simulate::simulate(&deck, &opts.values, &opts.campaign)
         .map_err(|e| CommandError::input(format!("{}: {e}", opts.deck.display())))?;
     let title = deck_title(&deck, &opts.deck);
     let records = simulate::to_uff_records(&frfs, &title, !opts.single, opts.binary);
+    stage(&format!(
+        "writing {} record(s) to {}",
+        records.len(),
+        opts.out.display()
+    ));
     write_atomic_with(&opts.out, |mut w| {
         frfup_parsers::uff::write_functions(&mut w, &records)
     })

@@ -85,7 +85,7 @@ pub fn mean_frequency_error_pct(result: &UpdateResult, record: usize) -> Option<
 /// or not at all.
 pub fn run(
     cmd: &UpdateCommand,
-    progress: &mut dyn FnMut(&updating::IterationRecord),
+    progress: &mut dyn FnMut(updating::UpdateProgress),
 ) -> Result<UpdateOutcome, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let shown = Shown::of(cmd);
@@ -120,7 +120,7 @@ pub fn run_into(
     cmd: &UpdateCommand,
     dir: &Path,
     shown: &Shown,
-    progress: &mut dyn FnMut(&updating::IterationRecord),
+    progress: &mut dyn FnMut(updating::UpdateProgress),
 ) -> Result<UpdateOutcome, CommandError> {
     let mut timings = Vec::new();
     let mut clock = std::time::Instant::now();

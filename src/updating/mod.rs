@@ -341,6 +341,17 @@ pub struct IterationRecord {
     pub stage: IterationStage,
 }
 
+/// What an update reports as it runs, for a progress display: each scored
+/// iteration, and the start of the full-band estimate, which scores nothing
+/// until it ends (seconds on a large model).
+#[derive(Clone, Copy, Debug)]
+pub enum UpdateProgress<'a> {
+    /// An iteration was scored.
+    Iteration(&'a IterationRecord),
+    /// The robust pipeline's full-band estimate starts.
+    EstimateStarted,
+}
+
 /// Which equations produced an iteration's step: the convergence chart
 /// marks where they change.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

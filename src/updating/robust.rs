@@ -19,7 +19,7 @@ use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate};
 use super::iterate::update_model;
 use super::{
     IterationRecord, IterationStage, StopReason, UpdateError, UpdateMethod, UpdateOptions,
-    UpdateResult, UpdateWarning,
+    UpdateProgress, UpdateResult, UpdateWarning,
 };
 use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
@@ -33,12 +33,13 @@ pub fn update_robust(
     deck: &Deck,
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
-    progress: &mut dyn FnMut(&IterationRecord),
+    progress: &mut dyn FnMut(UpdateProgress),
 ) -> Result<UpdateResult, UpdateError> {
     let mut result = first_stage(deck, test, opts, progress)?;
     let (column, _) = crate::testdata::layout::as_column(test);
     let data = test_data(deck, &column)?;
     let np = result.parameter_names.len();
+    progress(UpdateProgress::EstimateStarted);
     let est = estimate(&EstimateRequest {
         deck,
         data: &data,
@@ -54,8 +55,8 @@ pub fn update_robust(
         .collect();
     match score(deck, test, &values, &p_final, &result) {
         Ok((record, fdac)) => {
-            progress(&record);
             append_final(&mut result, record, fdac, &p_final);
+            progress(UpdateProgress::Iteration(result.final_record()));
         }
         // The estimate's parameters give no usable model (e.g. a mechanism
         // once a stiffness sits at its lower bound): keep the first stage's
@@ -88,7 +89,7 @@ fn first_stage(
     deck: &Deck,
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
-    progress: &mut dyn FnMut(&IterationRecord),
+    progress: &mut dyn FnMut(UpdateProgress),
 ) -> Result<UpdateResult, UpdateError> {
     match update_model(&mut |v| model::build(deck, v), test, opts, progress, None) {
         // No resonance stands out of the test's FRFs (heavy damping, a

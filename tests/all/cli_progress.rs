@@ -78,6 +78,19 @@ fn no_progress_when_stderr_is_not_a_terminal() {
         ("convert", vec!["convert".into(), uff.clone(), out("c.csv")]),
         ("modes", vec!["modes".into(), deck.clone()]),
         ("info", vec!["info".into(), uff.clone()]),
+        (
+            "simulate",
+            vec![
+                "simulate".into(),
+                deck.clone(),
+                "--input".into(),
+                "16:+z".into(),
+                "--band".into(),
+                "1:100:50".into(),
+                "--out".into(),
+                out("s.uff"),
+            ],
+        ),
     ];
     for (what, args) in &runs {
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
@@ -93,4 +106,20 @@ fn no_progress_when_stderr_is_not_a_terminal() {
     let (code, stderr) = run(&["update", &deck, &uff, "--out", &out("u2"), "--progress"]);
     assert!(code == 0 || code == 1, "{stderr}");
     assert!(stderr.contains("iteration 1:"), "{stderr}");
+    // The full-band estimate is named while it runs, and its record after.
+    let started = stderr.find("full-band estimate: all lines");
+    let scored = stderr.find("full-band estimate: SFDAC mean");
+    assert!(
+        started.is_some() && started < scored,
+        "the estimate's stage is not shown: {stderr}"
+    );
+    let (code, stderr) = run(&["modes", &deck, "--progress"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("mode(s) of a"), "{stderr}");
+    let s2 = out("s2.uff");
+    let args = ["simulate", &deck, "--input", "16:+z", "--band", "1:100:50"];
+    let (code, stderr) = run(&[&args[..], &["--out", &s2, "--progress"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("computing the FRFs of"), "{stderr}");
+    assert!(stderr.contains(" record(s) to "), "{stderr}");
 }

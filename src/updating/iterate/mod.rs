@@ -32,7 +32,7 @@ mod stop;
 
 use frfup_parsers::deck::Deck;
 
-use super::{IterationRecord, StopReason, UpdateError, UpdateMethod, UpdateOptions, UpdateResult};
+use super::{StopReason, UpdateError, UpdateMethod, UpdateOptions, UpdateProgress, UpdateResult};
 use crate::model::{self, FeModel, ModelError, ParameterValues};
 use crate::testdata::MeasuredFrfs;
 use state::IterationState;
@@ -63,12 +63,12 @@ pub fn update(
     update_with_progress(deck, test, opts, &mut |_| {})
 }
 
-/// [`update`], calling `progress` after every scored iteration.
+/// [`update`], telling `progress` of every scored iteration and stage.
 pub fn update_with_progress(
     deck: &Deck,
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
-    progress: &mut dyn FnMut(&IterationRecord),
+    progress: &mut dyn FnMut(UpdateProgress),
 ) -> Result<UpdateResult, UpdateError> {
     match opts.method {
         UpdateMethod::Paper => update_model(
@@ -93,7 +93,7 @@ pub fn update_model(
     build: &mut dyn FnMut(&ParameterValues) -> Result<FeModel, ModelError>,
     test: &MeasuredFrfs,
     opts: &UpdateOptions,
-    progress: &mut dyn FnMut(&IterationRecord),
+    progress: &mut dyn FnMut(UpdateProgress),
     known: Option<&MeasuredResonances>,
 ) -> Result<UpdateResult, UpdateError> {
     prepare::check_options(opts)?;

@@ -11,7 +11,8 @@ use crate::updating::correlation::{pair_modes, SfdacSummary};
 use crate::updating::sensitivity::{frf_equations, FrfEquations, ModalSensitivities};
 use crate::updating::serep::SerepBasis;
 use crate::updating::{
-    IterationRecord, IterationStage, ModePair, UpdateError, UpdateOptions, UpdateWarning,
+    IterationRecord, IterationStage, ModePair, UpdateError, UpdateOptions, UpdateProgress,
+    UpdateWarning,
 };
 
 /// The iteration's state between two passes.
@@ -91,7 +92,7 @@ impl IterationState {
         build: &mut dyn FnMut(&ParameterValues) -> Result<FeModel, ModelError>,
         problem: &Problem,
         opts: &UpdateOptions,
-        progress: &mut dyn FnMut(&IterationRecord),
+        progress: &mut dyn FnMut(UpdateProgress),
     ) -> Result<Iterate, UpdateError> {
         let (fe, modes) = self.model_and_modes(build, problem)?;
         let fe_hz = modes.frequencies_hz();
@@ -156,7 +157,7 @@ impl IterationState {
                 (_, false) => IterationStage::Frf,
             },
         };
-        progress(&record);
+        progress(UpdateProgress::Iteration(&record));
         self.records.push(record);
         Ok(Iterate {
             fe,
