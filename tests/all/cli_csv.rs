@@ -79,7 +79,7 @@ fn every_csv_follows_one_convention() {
     let dir = workdir("csv");
     let (deck, uff) = cantilever_case(&dir);
     let d = |n: &str| dir.join(n).to_str().unwrap().to_string();
-    frfup_ok(&["--quiet", "demo", "--out", &d("demo")]);
+    crate::cli_support::copy_dir(crate::cli_support::demo_dir(), &dir.join("demo"));
     let out = frfup(&["update", &deck, &uff, "--out", &d("update")]);
     assert!(matches!(out.status.code(), Some(0 | 1)));
     let out = frfup(&[

@@ -1,23 +1,11 @@
 //! `frfup demo`: the built-in GARTEUR-like case runs end to end and improves the correlation.
 
-use std::process::Command;
-
 #[test]
 fn demo_runs_end_to_end_and_improves_the_correlation() {
-    let out_dir =
-        crate::cli_support::scratch_root().join(format!("frfup-demo-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out_dir);
-    let out = Command::new(env!("CARGO_BIN_EXE_frfup"))
-        .args(["demo", "--verbose", "--out", out_dir.to_str().unwrap()])
-        .env("CI", "true")
-        .output()
-        .expect("run frfup demo");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    readme_quotes_the_demo(&String::from_utf8_lossy(&out.stdout));
+    let run = crate::cli_support::demo();
+    assert!(run.status.success(), "{}", run.stderr);
+    let out_dir = &run.dir;
+    readme_quotes_the_demo(&run.stdout);
     for f in [
         "input/garteur.deck",
         "input/campaign.uff",
@@ -115,7 +103,7 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
         }
     }
     assert_eq!(unidentified, ["rroot_J", "lroot_J"]);
-    reports_say_not_identified(&out_dir, &unidentified);
+    reports_say_not_identified(out_dir, &unidentified);
     assert_eq!(report["converged"], true);
     assert_eq!(report["method"], "robust");
     // the updated deck is a valid deck

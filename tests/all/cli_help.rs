@@ -172,10 +172,9 @@ fn out_help_lists_the_files_each_command_writes() {
 
 #[test]
 fn demo_out_help_lists_the_files_it_writes() {
-    let dir = workdir("help-demo").join("demo");
-    frfup_ok(&["demo", "--out", dir.to_str().unwrap()]);
+    let dir = crate::cli_support::demo_dir();
     let said = mentioned(&option_help(&help("demo"), "--out"));
-    let mut files = written(&dir);
+    let mut files = written(dir);
     assert!(files.remove("input/"), "{files:?}");
     for f in written(&dir.join("input")) {
         files.insert(format!("input/{f}"));

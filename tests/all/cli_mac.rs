@@ -26,9 +26,7 @@ fn the_mac_chart_and_the_frequency_table_agree() {
     let (deck, uff) = cantilever_case(&dir);
     // The cantilever's undamped FRFs admit no pole fit: peaks and their
     // deflection shapes, whatever the method; the demo's are fitted.
-    let demo = dir.join("demo");
-    let o = frfup(&["--quiet", "demo", "--out", demo.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0));
+    let demo = crate::cli_support::demo_dir().to_path_buf();
     let mut cases = vec![(demo, "fitted")];
     for method in ["robust", "paper"] {
         let out = dir.join(method);

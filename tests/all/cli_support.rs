@@ -11,6 +11,53 @@ pub fn scratch_root() -> PathBuf {
     PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
 }
 
+/// One `frfup demo --verbose` (stderr not a terminal, `CI` set), run once
+/// per test process and shared by the tests that only read its folder: the
+/// demo takes seconds and six tests read it. Never write into `dir`; copy
+/// it first ([`copy_dir`]).
+pub struct DemoRun {
+    pub dir: PathBuf,
+    pub status: std::process::ExitStatus,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+pub fn demo() -> &'static DemoRun {
+    static RUN: std::sync::OnceLock<DemoRun> = std::sync::OnceLock::new();
+    RUN.get_or_init(|| {
+        let dir = scratch_root().join(format!("frfup-demo-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let out = frfup(&["demo", "--verbose", "--out", dir.to_str().unwrap()]);
+        DemoRun {
+            dir,
+            status: out.status,
+            stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+            stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        }
+    })
+}
+
+/// The shared demo's folder, after checking that the demo succeeded.
+pub fn demo_dir() -> &'static Path {
+    let run = demo();
+    assert!(run.status.success(), "frfup demo failed: {}", run.stderr);
+    &run.dir
+}
+
+/// Copy the folder `from` (files and subfolders) to `to`, created.
+pub fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap() {
+        let entry = entry.unwrap();
+        let target = to.join(entry.file_name());
+        if entry.file_type().unwrap().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
 /// Run `frfup` with `args`, stderr not a terminal, `CI` set.
 pub fn frfup(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_frfup"))

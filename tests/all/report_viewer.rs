@@ -142,8 +142,7 @@ fn identify_viewer_data_round_trips_with_the_pairs_table() {
 
 #[test]
 fn update_viewer_data_round_trips_with_the_frequency_table() {
-    let dir = fresh_dir("report_viewer", "demo");
-    frfup(&["--quiet", "demo", "--out", dir.to_str().unwrap()]);
+    let dir = crate::cli_support::demo_dir();
     let v = blob(&dir.join("report.html"));
     check_geometry(&v, "fixtures/garteur/garteur.deck");
     let report: serde_json::Value =
