@@ -13,7 +13,7 @@ use std::path::Path;
 use faer::c64;
 use frfup::diagnosis::data::TestData;
 use frfup::diagnosis::data_errors::{check, DataError, DataErrorKind};
-use frfup::diagnosis::fit::modal_model;
+use frfup::diagnosis::fit::{modal_model, ModalModel};
 use frfup::parsers::deck::Deck;
 use frfup::testdata::MeasuredFrfs;
 
@@ -50,9 +50,33 @@ fn load(case: &str) -> (Deck, MeasuredFrfs) {
     (deck, frfup::testdata::load(&uff).unwrap())
 }
 
-fn errors(deck: &Deck, test: &MeasuredFrfs) -> Vec<DataError> {
-    let data = TestData::new(test).unwrap();
-    check(&data, &modal_model(deck, &data).unwrap())
+/// A campaign and its deck's modal model at the campaign's channels,
+/// computed once per test process: the corruptions change a channel's
+/// values, never which DOF it measures, so the model stays valid.
+struct Campaign {
+    name: &'static str,
+    test: MeasuredFrfs,
+    model: ModalModel,
+}
+
+fn campaigns() -> &'static [Campaign] {
+    static ALL: std::sync::OnceLock<Vec<Campaign>> = std::sync::OnceLock::new();
+    ALL.get_or_init(|| {
+        CASES
+            .iter()
+            .copied()
+            .chain(["garteur"])
+            .map(|name| {
+                let (deck, test) = load(name);
+                let model = modal_model(&deck, &TestData::new(&test).unwrap()).unwrap();
+                Campaign { name, test, model }
+            })
+            .collect()
+    })
+}
+
+fn errors(campaign: &Campaign, test: &MeasuredFrfs) -> Vec<DataError> {
+    check(&TestData::new(test).unwrap(), &campaign.model)
 }
 
 /// A deterministic complex noise sample of standard deviation `sigma`
@@ -80,10 +104,9 @@ fn noise(n: usize, sigma: f64, seed: u64) -> Vec<c64> {
 
 #[test]
 fn no_clean_campaign_is_flagged() {
-    for case in CASES.iter().copied().chain(["garteur"]) {
-        let (deck, test) = load(case);
-        let found = errors(&deck, &test);
-        assert!(found.is_empty(), "{case}: {found:?}");
+    for campaign in campaigns() {
+        let found = errors(campaign, &campaign.test);
+        assert!(found.is_empty(), "{}: {found:?}", campaign.name);
     }
 }
 
@@ -94,14 +117,13 @@ fn corrupted_channels(test: &MeasuredFrfs) -> Vec<usize> {
     vec![0, n / 2, n - 1]
 }
 
-fn each_corruption(mut f: impl FnMut(&str, &Deck, &MeasuredFrfs, usize)) {
-    for case in CASES.iter().copied().chain(["garteur"]) {
-        let (deck, test) = load(case);
-        if test.channels.len() < 4 {
+fn each_corruption(mut f: impl FnMut(&Campaign, usize)) {
+    for campaign in campaigns() {
+        if campaign.test.channels.len() < 4 {
             continue;
         }
-        for c in corrupted_channels(&test) {
-            f(case, &deck, &test, c);
+        for c in corrupted_channels(&campaign.test) {
+            f(campaign, c);
         }
     }
 }
@@ -122,9 +144,10 @@ fn assert_found(
 ) {
     let (mut found_right, mut missed, mut found_wrong) = (0, Vec::new(), Vec::new());
     let mut runs = 0;
-    each_corruption(|case, deck, test, c| {
-        let bad = corrupt(test, c, runs);
-        let found = errors(deck, &bad);
+    each_corruption(|campaign, c| {
+        let case = campaign.name;
+        let bad = corrupt(&campaign.test, c, runs);
+        let found = errors(campaign, &bad);
         if expect(&found, c, runs) {
             found_right += 1;
         } else if found.is_empty() {
