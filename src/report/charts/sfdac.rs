@@ -29,7 +29,11 @@ fn model_color(i: usize) -> RGBColor {
     comparison_color(i + 1)
 }
 
-/// Frequency labels with enough decimals to tell neighbours apart.
+/// Relative error a frequency label may have (2.75 Hz must not read "2.8").
+const LABEL_RELATIVE_ERROR: f64 = 1e-3;
+
+/// Frequency labels with enough decimals to tell neighbours apart, and to
+/// give each frequency within [`LABEL_RELATIVE_ERROR`] of its value.
 pub(crate) fn frequency_labels(hz: &[f64]) -> Vec<String> {
     let mut min_gap = f64::INFINITY;
     for w in hz.windows(2) {
@@ -38,11 +42,17 @@ pub(crate) fn frequency_labels(hz: &[f64]) -> Vec<String> {
             min_gap = min_gap.min(d);
         }
     }
-    let d = if min_gap.is_finite() {
+    let apart = if min_gap.is_finite() {
         super::decimals_for(min_gap).clamp(1, 4)
     } else {
         2
     };
+    let close = |d: usize| {
+        let scale = 10f64.powi(d as i32);
+        hz.iter()
+            .all(|f| ((f * scale).round() / scale - f).abs() <= LABEL_RELATIVE_ERROR * f.abs())
+    };
+    let d = (apart..4).find(|&d| close(d)).unwrap_or(4);
     hz.iter().map(|f| fmt_fixed(*f, d)).collect()
 }
 
@@ -156,6 +166,15 @@ mod tests {
                 ),
             ],
         }
+    }
+
+    #[test]
+    fn frequency_labels_are_within_a_thousandth_of_their_value() {
+        // The demo's first updating frequencies: 2.75 and 6.25 Hz read
+        // "2.8" and "6.2" with the one decimal their spacing asks for.
+        let labels = frequency_labels(&[2.5, 2.75, 6.25, 7.0, 37.4312]);
+        assert_eq!(labels, ["2.50", "2.75", "6.25", "7.00", "37.43"]);
+        assert_eq!(frequency_labels(&[10.0, 20.0]), ["10.0", "20.0"]);
     }
 
     #[test]

@@ -266,14 +266,23 @@ fn improved(s: &mut String, d: &Diagnosis) {
     );
     let _ = writeln!(
         s,
-        "<p>SFDAC mean {} → {} → {}; mean frequency error {} % → {} % → {} %.</p>",
+        "<p>SFDAC mean {} → {} → {}; mean frequency error {} → {} → {}.</p>",
         num(d.initial.sfdac_mean, 4),
         num(d.updated.sfdac_mean, 4),
         num(d.diagnosed.sfdac_mean, 4),
-        num(d.initial.freq_error_mean_pct, 3),
-        num(d.updated.freq_error_mean_pct, 3),
-        num(d.diagnosed.freq_error_mean_pct, 3)
+        percent(d.initial.freq_error_mean_pct),
+        percent(d.updated.freq_error_mean_pct),
+        percent(d.diagnosed.freq_error_mean_pct)
     );
+}
+
+/// A percentage with its sign "%", or "–" when there is none (no pairs).
+fn percent(v: f64) -> String {
+    if v.is_finite() {
+        format!("{} %", num(v, 3))
+    } else {
+        "–".to_string()
+    }
 }
 
 fn rejected(s: &mut String, d: &Diagnosis) {
@@ -303,4 +312,13 @@ fn rejected(s: &mut String, d: &Diagnosis) {
         "<p class=\"muted\">{} model evaluations. The diagnosed model is in <code>diagnosed.deck</code>.</p>",
         d.model_evaluations
     );
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_missing_percentage_is_a_dash_without_its_unit() {
+        assert_eq!(super::percent(f64::NAN), "–");
+        assert_eq!(super::percent(0.009), "0.009 %");
+    }
 }
