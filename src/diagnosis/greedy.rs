@@ -11,6 +11,8 @@ use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
 
+use super::data::TestData;
+use super::discriminate;
 use super::fit::DampingState;
 use super::hypotheses::{Hypothesis, Physics};
 use super::refit;
@@ -129,7 +131,7 @@ impl Greedy {
         let Some(best) = scored.first().cloned() else {
             return false;
         };
-        self.accept_single(round, best, &scored, m);
+        self.accept_single(round, best, &scored, m, engine.data);
         self.reestimate_jointly(engine);
         self.choose_damping_form_again(search);
         true
@@ -210,6 +212,7 @@ impl Greedy {
                 validation_error_after: p.v,
                 label: format!("{} (fitted jointly with the next)", h.label),
                 indistinguishable_from: vec![],
+                tell_apart: None,
             });
         }
         if let Some(last) = self.findings.last_mut() {
@@ -231,7 +234,20 @@ impl Greedy {
         (h, f, v): (Hypothesis, HypFit, f64),
         scored: &[(Hypothesis, HypFit, f64)],
         m: f64,
+        data: &TestData,
     ) {
+        let tell_apart = scored
+            .iter()
+            .skip(1)
+            .find(|(o, _, vo)| *vo < v + m && o.label != h.label)
+            .and_then(|(o, fo, _)| {
+                discriminate::tell_apart(
+                    (&self.explained(&h, &f), f.damping.damping()),
+                    (&self.explained(o, fo), fo.damping.damping()),
+                    &o.label,
+                    data,
+                )
+            });
         let alternatives: Vec<String> = scored
             .iter()
             .skip(1)
@@ -272,6 +288,7 @@ impl Greedy {
             validation_error_after: v,
             label: h.label.clone(),
             indistinguishable_from: alternatives,
+            tell_apart,
         });
         self.accepted.push((h, f.value));
         if !f.deck_values.is_empty() {
@@ -281,6 +298,19 @@ impl Greedy {
         self.damp = f.damping.clone();
         self.cost = f.cost;
         self.v = v;
+    }
+
+    /// The deck that explains the test by the accepted extensions and `h`
+    /// at its fit `f` (with the deck's parameters it fitted along).
+    fn explained(&self, h: &Hypothesis, f: &HypFit) -> Deck {
+        let base = if f.deck_values.is_empty() {
+            self.base.clone()
+        } else {
+            model::updated_deck(&self.base, &f.deck_values)
+        };
+        let mut accepted = self.accepted.clone();
+        accepted.push((h.clone(), f.value));
+        apply_accepted(&base, &accepted)
     }
 
     /// Re-estimate the earlier extensions' values together with the new

@@ -14,6 +14,7 @@
 //! layer, above this one).
 
 pub mod data_errors;
+pub mod discriminate;
 pub mod hypotheses;
 pub mod localise;
 pub mod refit;
@@ -111,6 +112,8 @@ pub struct Finding {
     pub label: String,
     /// Other hypotheses the data cannot tell apart from this one.
     pub indistinguishable_from: Vec<String>,
+    /// The measurement that would tell it from the closest of them.
+    pub tell_apart: Option<discriminate::TellApart>,
 }
 
 /// A hypothesis that was fitted and validated but not accepted.

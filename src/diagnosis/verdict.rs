@@ -8,7 +8,7 @@
 //! evidence of missing physics: such a change is reported, whatever else is
 //! found.
 
-use super::{sig, Diagnosis};
+use super::{sig, Diagnosis, Finding};
 
 /// A relative change of a deck parameter above this (±30 %) is implausible
 /// for a model a person built from drawings and handbook values.
@@ -20,6 +20,10 @@ pub enum Verdict {
     /// Extensions were found and the extended model explains the test to the
     /// noise level.
     Explained,
+    /// Extensions were found and explain the test to the noise level, but
+    /// other hypotheses explain it as well with these sensors: one sentence
+    /// per such finding, with the measurement that would tell them apart.
+    CannotTellApart { pairs: Vec<String> },
     /// Extensions were found, but disagreement remains above the noise level.
     PartlyExplained { frf_error: f64 },
     /// No extension, and the deck's own parameters explain the test to the
@@ -35,16 +39,46 @@ pub enum Verdict {
 impl Verdict {
     /// The verdict of `d`.
     pub fn of(d: &Diagnosis) -> Verdict {
-        let frf_error = d.diagnosed.frf_error;
-        let mut large: Vec<(String, f64)> = d
-            .updated_parameters
+        Verdict::from_parts(
+            &d.findings,
+            d.at_noise_level,
+            d.diagnosed.frf_error,
+            &d.updated_parameters,
+        )
+    }
+
+    /// The verdict of findings, whether the final model is at the noise
+    /// level, its FRF error and the first stage's parameter changes.
+    pub fn from_parts(
+        findings: &[Finding],
+        at_noise_level: bool,
+        frf_error: f64,
+        updated_parameters: &crate::model::ParameterValues,
+    ) -> Verdict {
+        let mut large: Vec<(String, f64)> = updated_parameters
             .iter()
             .filter(|(_, p)| p.abs() > LARGE_CHANGE)
             .map(|(n, p)| (n.clone(), *p))
             .collect();
         large.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-        match (d.findings.is_empty(), d.at_noise_level) {
-            (false, true) => Verdict::Explained,
+        let pairs: Vec<String> = findings
+            .iter()
+            .filter_map(|f| {
+                let other = f.indistinguishable_from.first()?;
+                Some(f.tell_apart.as_ref().map_or_else(
+                    || {
+                        format!(
+                            "{} and {other} explain the data equally well with these sensors.",
+                            f.label
+                        )
+                    },
+                    |t| t.sentence(&f.label),
+                ))
+            })
+            .collect();
+        match (findings.is_empty(), at_noise_level) {
+            (false, true) if pairs.is_empty() => Verdict::Explained,
+            (false, true) => Verdict::CannotTellApart { pairs },
             (false, false) => Verdict::PartlyExplained { frf_error },
             (true, false) => Verdict::Unexplained { frf_error },
             (true, true) if large.is_empty() => Verdict::NothingMissing,
@@ -62,6 +96,7 @@ impl Verdict {
     pub fn status(&self) -> &'static str {
         match self {
             Verdict::Explained => "explained",
+            Verdict::CannotTellApart { .. } => "cannot tell apart",
             Verdict::PartlyExplained { .. } => "partly explained",
             Verdict::NothingMissing => "nothing missing",
             Verdict::AbsorbedByParameters { .. } => "parameters absorb it",
@@ -75,6 +110,10 @@ impl Verdict {
             Verdict::Explained => {
                 "The extended model explains the test to the noise level.".into()
             }
+            Verdict::CannotTellApart { pairs } => format!(
+                "The extended model explains the test to the noise level, but not uniquely. {}",
+                pairs.join(" ")
+            ),
             Verdict::PartlyExplained { frf_error } => format!(
                 "The findings improve the fit, but disagreement remains at {}× the noise level: physics outside the dictionary, a data error, or effects too weak to separate.",
                 sig(*frf_error)
@@ -97,5 +136,63 @@ impl Verdict {
                 sig(*frf_error)
             ),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::diagnosis::discriminate::TellApart;
+    use crate::diagnosis::hypotheses::Physics;
+
+    fn finding(alternatives: &[&str], tell_apart: Option<TellApart>) -> Finding {
+        Finding {
+            physics: Physics::AddedMass,
+            nodes: vec![6],
+            dofs: vec![],
+            parameters: Default::default(),
+            uncertainty: Default::default(),
+            validation_error_before: 40.0,
+            validation_error_after: 0.9,
+            label: "added-mass at node 6".into(),
+            indistinguishable_from: alternatives.iter().map(|s| s.to_string()).collect(),
+            tell_apart,
+        }
+    }
+
+    #[test]
+    fn two_explanations_as_good_are_not_a_conclusion() {
+        let none = crate::model::ParameterValues::new();
+        let alone = [finding(&[], None)];
+        assert_eq!(
+            Verdict::from_parts(&alone, true, 0.9, &none),
+            Verdict::Explained
+        );
+        let t = TellApart {
+            alternative: "added-mass at node 5".into(),
+            node: 6,
+            direction: 3,
+            dof: "6+z".into(),
+            band_hz: (225.9, 244.5),
+            difference_db: 12.5,
+        };
+        let both = [finding(&["added-mass at node 5 (m = 0.12 kg)"], Some(t))];
+        let v = Verdict::from_parts(&both, true, 0.9, &none);
+        assert!(!v.is_conclusive());
+        assert_eq!(v.status(), "cannot tell apart");
+        let s = v.sentence();
+        assert!(
+            s.contains(
+                "added-mass at node 6 and added-mass at node 5 explain the data equally well"
+            ) && s.contains("measure 6+z")
+                && s.contains("225.9–244.5 Hz")
+                && s.contains("12.5 dB"),
+            "{s}"
+        );
+        // Above the noise level the remaining error is the stronger statement.
+        assert!(matches!(
+            Verdict::from_parts(&both, false, 7.0, &none),
+            Verdict::PartlyExplained { .. }
+        ));
     }
 }

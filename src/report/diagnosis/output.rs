@@ -86,6 +86,14 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
                 },
                 "description": f.label,
                 "indistinguishable_from": f.indistinguishable_from,
+                "tell_apart": f.tell_apart.as_ref().map(|t| json!({
+                    "alternative": t.alternative,
+                    "dof": t.dof,
+                    "node": t.node,
+                    "direction": t.direction,
+                    "band_hz": [t.band_hz.0, t.band_hz.1],
+                    "difference_db": num(t.difference_db),
+                })),
             })
         })
         .collect();
@@ -178,6 +186,9 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
                 "  The data cannot tell this apart from: {}.\n",
                 f.indistinguishable_from.join("; ")
             ));
+        }
+        if let Some(t) = &f.tell_apart {
+            s.push_str(&format!("  {}\n", t.sentence(&f.label)));
         }
     }
     s.push_str(&format!(

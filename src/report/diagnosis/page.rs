@@ -42,7 +42,9 @@ pub fn verdict(d: &Diagnosis) -> (&'static str, &'static str, String, String) {
     let v = Verdict::of(d);
     let (class, mark) = match v {
         Verdict::Explained | Verdict::NothingMissing => ("ok", "✔"),
-        Verdict::PartlyExplained { .. } | Verdict::AbsorbedByParameters { .. } => ("amber", "⚠"),
+        Verdict::PartlyExplained { .. }
+        | Verdict::AbsorbedByParameters { .. }
+        | Verdict::CannotTellApart { .. } => ("amber", "⚠"),
         Verdict::Unexplained { .. } => ("fail", "✘"),
     };
     (class, mark, v.status().to_uppercase(), v.sentence())
@@ -251,6 +253,9 @@ fn physics(s: &mut String, d: &Diagnosis) {
             esc(&f.label),
             esc(&f.indistinguishable_from.join("; "))
         );
+        if let Some(t) = &f.tell_apart {
+            let _ = writeln!(s, "<p>{}</p>", esc(&t.sentence(&f.label)));
+        }
     }
 }
 
