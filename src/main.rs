@@ -571,14 +571,20 @@ fn identify(a: IdentifyArgs, g: &Global) -> Result<(), CommandError> {
         .as_deref()
         .map(commands::identify::parse_band)
         .transpose()?;
-    let id = commands::identify::run(&commands::identify::IdentifyCommand {
-        test: a.test,
-        out: a.out.clone(),
-        band_hz,
-        max_order: a.max_order,
-        deck: a.deck,
-        strict: g.strict,
-    })?;
+    let reporter = StageReporter::new(g.progress);
+    let id = commands::identify::run(
+        &commands::identify::IdentifyCommand {
+            test: a.test,
+            out: a.out.clone(),
+            band_hz,
+            max_order: a.max_order,
+            deck: a.deck,
+            strict: g.strict,
+        },
+        &|s| reporter.stage(s),
+    );
+    reporter.finish();
+    let id = id?;
     if !g.quiet {
         print!("{}", commands::identify::summary(&id));
         println!("wrote {}", a.out.display());

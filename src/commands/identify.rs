@@ -42,8 +42,8 @@ pub fn parse_band(s: &str) -> Result<(f64, f64), CommandError> {
     }
 }
 
-/// Identify the modes and write the folder.
-pub fn run(cmd: &IdentifyCommand) -> Result<Identification, CommandError> {
+/// Identify the modes and write the folder, telling `stage` what it is doing.
+pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     // The fit's matrices are tall and thin (lines × a few dozen columns):
     // faer's thread pool spent a third of the run waiting at its barriers
@@ -56,6 +56,11 @@ pub fn run(cmd: &IdentifyCommand) -> Result<Identification, CommandError> {
         max_order: cmd.max_order,
         ..IdentifyOptions::default()
     };
+    stage(&format!(
+        "identifying modes: {} FRF(s) × {} line(s), poles by model order, then residues",
+        test.channels.len(),
+        test.frequencies_hz.len()
+    ));
     let id = identification::identify(&test, &opts)
         .map_err(|e| CommandError::input(format!("{}: {e}", cmd.test.display())))?;
     let mut notes: Vec<String> = notes
@@ -90,6 +95,7 @@ pub fn run(cmd: &IdentifyCommand) -> Result<Identification, CommandError> {
         notes: &notes,
         viewer: viewer.as_ref(),
     };
+    stage("writing the report");
     crate::fsio::write_folder(&cmd.out, |dir| {
         write_outputs(&report, dir).map_err(|e| std::io::Error::other(e.to_string()))
     })

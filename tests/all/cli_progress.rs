@@ -113,6 +113,10 @@ fn no_progress_when_stderr_is_not_a_terminal() {
         started.is_some() && started < scored,
         "the estimate's stage is not shown: {stderr}"
     );
+    let (code, stderr) = run(&["identify", &duff, "--out", &out("i"), "--progress"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(stderr.contains("identifying modes: 4 FRF(s)"), "{stderr}");
+    assert!(stderr.contains("writing the report"), "{stderr}");
     let (code, stderr) = run(&["modes", &deck, "--progress"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(stderr.contains("mode(s) of a"), "{stderr}");
