@@ -73,7 +73,9 @@ fn scaled_section(s: &Section, f: &[f64]) -> Section {
 /// first group in beam order) keeps the original. The `param` statements are
 /// kept, so the result can be updated again (new values are relative to the
 /// updated numbers). For a material without `G` a change of G goes into ν
-/// (G keeps following E). Unknown names in `values` are ignored.
+/// (G keeps following E). Unknown names in `values` are ignored. The
+/// parameters' `min`/`max` are re-expressed so that they bound the same
+/// physical values ([`rebase_bounds`]).
 pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
     let idx = Indices::new(deck);
     let f = factors(deck, &idx, values);
@@ -163,5 +165,22 @@ pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
     for (i, s) in out.springs.iter_mut().enumerate() {
         s.k *= f.spring[i];
     }
+    rebase_bounds(&mut out.params, values);
     out
+}
+
+/// The `min`/`max` bounds of each `param` re-expressed against the updated
+/// values, so that they bound the same physical values: a property bounded
+/// to (1 + min)·v₀ is (1 + min')·(1 + p̄)·v₀ with 1 + min' = (1 + min)/(1 + p̄).
+/// A prior `sd` is kept as written: its centre, the original value, is not
+/// expressible once the deck is updated.
+fn rebase_bounds(params: &mut [frfup_parsers::deck::Param], values: &ParameterValues) {
+    for p in params {
+        let v = values.get(&p.name).copied().unwrap_or(0.0);
+        if v != 0.0 && v > -1.0 {
+            let rebase = |b: f64| (1.0 + b) / (1.0 + v) - 1.0;
+            p.min = p.min.map(rebase);
+            p.max = p.max.map(rebase);
+        }
+    }
 }

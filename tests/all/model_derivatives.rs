@@ -163,3 +163,22 @@ fn updated_deck_multiplies_values_out() {
     let again = updated_deck(&parse(&text).unwrap(), &ParameterValues::new());
     assert_eq!(write(&again), text);
 }
+
+/// Bounds written against the deck's values bound the same physical values
+/// after an update: E may go from 0.5× to 1.5× the deck's value; updated by
+/// +20 %, the same range is 0.5/1.2 − 1 … 1.5/1.2 − 1 of the updated value.
+#[test]
+fn updated_deck_keeps_the_physical_bounds_of_each_parameter() {
+    let deck = DECK.replace("param pE E 1-3", "param pE E 1-3 min=-0.5 max=0.5 sd=0.1");
+    let d = parse(&deck).unwrap();
+    let values: ParameterValues = [("pE".to_string(), 0.2)].into_iter().collect();
+    let up = parse(&write(&updated_deck(&d, &values))).unwrap();
+    let p = up.params.iter().find(|p| p.name == "pE").unwrap();
+    let (min, max) = (p.min.unwrap(), p.max.unwrap());
+    assert!((min - (0.5 / 1.2 - 1.0)).abs() < 1e-12, "{min}");
+    assert!((max - (1.5 / 1.2 - 1.0)).abs() < 1e-12, "{max}");
+    assert_eq!(p.sd, Some(0.1));
+    // Unchanged parameters keep their bounds as written.
+    let unchanged = updated_deck(&d, &ParameterValues::new());
+    assert_eq!(write(&unchanged), write(&d));
+}
