@@ -148,14 +148,35 @@ impl Damping {
     /// = ω (rad/s). A slightly negative ω_r² (round-off of a rigid-body
     /// mode) counts as 0 in c_r, so damping never changes sign.
     pub fn modal_denominator(self, omega2: f64, omega: f64) -> faer::c64 {
+        self.modal_term(omega2).at(omega2, omega)
+    }
+
+    /// The damping term of one mode, c_r(ω) = slope·ω + constant, computed
+    /// once per mode for sweeps over many lines ([`Self::modal_denominator`]).
+    pub fn modal_term(self, omega2: f64) -> ModalDampingTerm {
         let w2 = omega2.max(0.0);
-        let c = match self {
-            Damping::None => 0.0,
-            Damping::Modal { zeta } => 2.0 * zeta * w2.sqrt() * omega,
-            Damping::Rayleigh { alpha, beta } => omega * (alpha + beta * w2),
-            Damping::Hysteretic { eta } => w2 * eta,
+        let (slope, constant) = match self {
+            Damping::None => (0.0, 0.0),
+            Damping::Modal { zeta } => (2.0 * zeta * w2.sqrt(), 0.0),
+            Damping::Rayleigh { alpha, beta } => (alpha + beta * w2, 0.0),
+            Damping::Hysteretic { eta } => (0.0, w2 * eta),
         };
-        faer::c64::new(omega2 - omega * omega, c)
+        ModalDampingTerm { slope, constant }
+    }
+}
+
+/// c_r(ω) = slope·ω + constant of one mode: slope 2ζω_r or α + βω_r² (s⁻¹
+/// · rad²/s² per rad/s), constant ηω_r² (rad²/s²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ModalDampingTerm {
+    pub slope: f64,
+    pub constant: f64,
+}
+
+impl ModalDampingTerm {
+    /// d_r(ω) = ω_r² − ω² + i c_r(ω), `omega2` = ω_r² (rad²/s²), `omega` = ω (rad/s).
+    pub fn at(self, omega2: f64, omega: f64) -> faer::c64 {
+        faer::c64::new(omega2 - omega * omega, self.slope * omega + self.constant)
     }
 }
 

@@ -29,6 +29,7 @@ mod diagnose_tell_apart;
 mod hostile_inputs;
 mod identification_closed_form;
 mod layering;
+mod modal_predictor;
 mod model_closed_form;
 mod model_derivatives;
 mod model_invariants;

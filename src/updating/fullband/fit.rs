@@ -197,14 +197,21 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
     })
 }
 
-/// Model FRFs in the measured kind, `[channel][line]`, masked channels left empty.
+/// Model FRFs in the measured kind, `[channel][line]`, masked channels left empty:
+/// H_c(ω) = (iω)ⁿ [R0_c + ω² R1_c + Σ_r a_cr / d_r(ω)].
+///
+/// The sum runs mode by mode over all channels at once (coefficients stored
+/// mode-major), so the inner loop is independent per channel and
+/// vectorises; each channel still adds its terms in mode order, the same
+/// sums as a per-channel loop.
 pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) -> Vec<Vec<c64>> {
     let nm = mm.omega2.len();
-    let mut out: Vec<Vec<c64>> = data
-        .channels
-        .iter()
-        .enumerate()
-        .map(|(c, _)| {
+    let active: Vec<usize> = (0..data.channels.len())
+        .filter(|&c| mask.channels[c])
+        .collect();
+    let na = active.len();
+    let mut out: Vec<Vec<c64>> = (0..data.channels.len())
+        .map(|c| {
             if mask.channels[c] {
                 Vec::with_capacity(data.omegas.len())
             } else {
@@ -212,34 +219,52 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
             }
         })
         .collect();
+    // a[r][k] for the active channels k.
+    let mut coeff = vec![0.0; nm * na];
+    for (k, &c) in active.iter().enumerate() {
+        for (r, &a) in mm.coeff[c].iter().enumerate().take(nm) {
+            coeff[r * na + k] = a;
+        }
+    }
     let res_factor = match damping {
         Damping::Hysteretic { eta } => c64::new(1.0, eta).inv(),
         _ => c64::new(1.0, 0.0),
     };
-    let mut inv_d = vec![c64::new(0.0, 0.0); nm];
+    let terms = mm.omega2.iter().map(|&w2| damping.modal_term(w2));
+    let (slopes, constants): (Vec<f64>, Vec<f64>) = terms.map(|t| (t.slope, t.constant)).unzip();
+    let (mut inv_re, mut inv_im) = (vec![0.0; nm], vec![0.0; nm]);
+    let (mut h_re, mut h_im) = (vec![0.0; na], vec![0.0; na]);
     for (l, &w) in data.omegas.iter().enumerate() {
-        let used = mask.lines[l];
-        if used {
-            for (r, &w2) in mm.omega2.iter().enumerate() {
-                let d = denominator(w2, w, damping).0;
-                inv_d[r] = d.inv();
+        if !mask.lines[l] {
+            for &c in &active {
+                out[c].push(c64::new(f64::NAN, f64::NAN));
+            }
+            continue;
+        }
+        for (k, &c) in active.iter().enumerate() {
+            let h = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
+            (h_re[k], h_im[k]) = (h.re, h.im);
+        }
+        // 1/d_r(ω) for every mode: ModalDampingTerm::at and c64::inv written
+        // out over slices, so that the loop vectorises.
+        let ww = w * w;
+        let modes = mm.omega2.iter().zip(&slopes).zip(&constants);
+        for ((ir, ii), ((&w2, &s), &k)) in inv_re.iter_mut().zip(inv_im.iter_mut()).zip(modes) {
+            let (re, im) = (w2 - ww, s * w + k);
+            let n = re * re + im * im;
+            (*ir, *ii) = (re / n, -im / n);
+        }
+        for r in 0..nm {
+            let (dr, di) = (inv_re[r], inv_im[r]);
+            let row = &coeff[r * na..(r + 1) * na];
+            for ((hr, hi), &a) in h_re.iter_mut().zip(h_im.iter_mut()).zip(row) {
+                *hr += dr * a;
+                *hi += di * a;
             }
         }
         let kind = crate::testdata::i_omega_power(w, data.order);
-        for (c, o) in out.iter_mut().enumerate() {
-            if !mask.channels[c] {
-                continue;
-            }
-            if !used {
-                o.push(c64::new(f64::NAN, f64::NAN));
-                continue;
-            }
-            let a = &mm.coeff[c];
-            let mut h = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
-            for r in 0..nm {
-                h += inv_d[r] * a[r];
-            }
-            o.push(h * kind);
+        for (k, &c) in active.iter().enumerate() {
+            out[c].push(c64::new(h_re[k], h_im[k]) * kind);
         }
     }
     out
@@ -273,7 +298,12 @@ pub fn residuals(pred: &[Vec<c64>], data: &TestData, mask: &Mask) -> Vec<f64> {
                 continue;
             }
             let ratio = *hm / data.values[c][l];
-            let (a, b) = if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
+            let n2 = ratio.norm_sqr();
+            // ln|z| = ½ ln|z|² where |z|² is a normal number; hypot's
+            // scaling only where it would under- or overflow.
+            let (a, b) = if n2.is_normal() {
+                (0.5 * n2.ln(), ratio.arg())
+            } else if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
                 (ratio.norm().ln(), ratio.arg())
             } else {
                 (10.0, std::f64::consts::PI)
