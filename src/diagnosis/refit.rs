@@ -18,13 +18,15 @@
 //! The standard deviations come from the Jacobian of the second stage,
 //! σ² (JᵀJ)⁻¹ (see [`fit::std_devs`]), on the log scale.
 //!
-//! The deck's own parameters (relative changes p̄, Eq. 26 of the paper,
-//! bounded to [−0.9, 10]) can be fitted along: an update made while an
+//! The deck's own parameters (relative changes p̄, Eq. 26 of the paper)
+//! can be fitted along, within their `param` bounds and with their priors
+//! as prior rows √J₀·p̄_j/s_j ([`ParameterPrior`]): an update made while an
 //! effect was missing has absorbed part of it into them.
 
 use frfup_parsers::deck::Deck;
 
 use crate::model::{self, ParameterValues};
+use crate::updating::fullband::prior::ParameterPrior;
 
 use super::fit::{self, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
@@ -38,11 +40,9 @@ pub struct Joint<'a> {
     pub hyps: Vec<&'a Hypothesis>,
     /// Names of the deck parameters fitted along (empty: none).
     pub deck_params: Vec<String>,
+    /// Their bounds and priors, in the same order.
+    pub deck_priors: Vec<ParameterPrior>,
 }
-
-/// Bounds of the deck parameters' relative changes p̄.
-const P_LO: f64 = -0.9;
-const P_HI: f64 = 10.0;
 
 impl<'a> Joint<'a> {
     /// Extensions only.
@@ -51,6 +51,7 @@ impl<'a> Joint<'a> {
             base,
             hyps,
             deck_params: Vec::new(),
+            deck_priors: Vec::new(),
         }
     }
 
@@ -59,6 +60,7 @@ impl<'a> Joint<'a> {
         Joint {
             base,
             deck_params: model::parameter_names(base),
+            deck_priors: ParameterPrior::of_deck(base),
             hyps,
         }
     }
@@ -76,8 +78,8 @@ impl<'a> Joint<'a> {
             .filter_map(|h| h.param.as_ref())
             .map(|p| (p.lo.ln(), p.hi.ln()))
             .unzip();
-        lo.extend(self.deck_params.iter().map(|_| P_LO));
-        hi.extend(self.deck_params.iter().map(|_| P_HI));
+        lo.extend(self.deck_priors.iter().map(|p| p.min));
+        hi.extend(self.deck_priors.iter().map(|p| p.max));
         (lo, hi)
     }
 
@@ -282,6 +284,9 @@ fn frf_stage(
     lo.extend(dlo);
     hi.extend(dhi);
     let form = damp.form;
+    let k = problem.n_logs();
+    let prior_scale = fit::noise_level(data, mask).sqrt();
+    let prior_rows = ParameterPrior::rows(&problem.deck_priors);
     // The model depends on x only: damping steps reuse it.
     let mut cache: Option<(Vec<f64>, ModalModel)> = None;
     let mut f = |x: &[f64]| -> Option<Vec<f64>> {
@@ -291,11 +296,13 @@ fn frf_stage(
             cache = Some((key.to_vec(), mm));
         }
         let mm = &cache.as_ref()?.1;
-        Some(fit::residuals(
+        let mut r = fit::residuals(
             &fit::predict(mm, form.damping(&x[n..]), data, mask),
             data,
             mask,
-        ))
+        );
+        ParameterPrior::push_rows(&problem.deck_priors, &x[k..n], prior_scale, &mut r);
+        Some(r)
     };
     let mut start = x0.to_vec();
     start.extend(damp.x.iter().copied());
@@ -304,7 +311,7 @@ fn frf_stage(
     let sd = fit::std_devs(jac.as_ref(), &out.residuals);
     Some((
         out.x[..n].to_vec(),
-        fit::mean_sq(&out.residuals),
+        fit::penalised_mean_sq(&out.residuals, prior_rows),
         DampingState {
             form,
             x: out.x[n..].to_vec(),

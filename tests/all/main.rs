@@ -25,6 +25,7 @@ mod cli_uff;
 mod data_errors;
 mod diagnose_benchmark;
 mod diagnose_cases;
+mod diagnose_priors;
 mod diagnose_tell_apart;
 mod hostile_inputs;
 mod identification_closed_form;

@@ -8,9 +8,9 @@ use faer::Mat;
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
-use super::estimate::ParameterPrior;
 use super::fit::{self, DampingState, Mask, ModalSolution};
 use super::lm::{self, LeastSquares, LmSettings};
+use super::prior::ParameterPrior;
 use crate::model::{self, FeModel, ParameterValues};
 use crate::updating::sensitivity::ModalSensitivities;
 

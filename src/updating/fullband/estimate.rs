@@ -40,14 +40,11 @@ use super::data::TestData;
 use super::fit::{self, DampingState, Mask};
 use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
 use super::objective::{minimise, Objective};
+pub use super::prior::{ParameterPrior, DEFAULT_MAX, DEFAULT_MIN};
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
 use crate::model::{self, Damping, ParameterValues};
 
-/// Default hard bounds of a relative change p̄ (a property between 0.1× and
-/// 11× its deck value).
-pub const DEFAULT_MIN: f64 = -0.9;
-pub const DEFAULT_MAX: f64 = 10.0;
 /// A parameter whose standard deviation exceeds this is not identified.
 pub const UNIDENTIFIED_SD: f64 = 0.5;
 /// J₀ of 0.1 % relative noise under the 1 % model floor of the weights
@@ -63,29 +60,6 @@ const NEGLIGIBLE: f64 = 0.05;
 const START_ITERATIONS: usize = 20;
 /// Relative gain of the cost below which a start's damping fit stops.
 const START_GAIN: f64 = 1e-5;
-
-/// Bounds and prior of one parameter (relative change p̄).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ParameterPrior {
-    pub min: f64,
-    pub max: f64,
-    /// Prior standard deviation (None: no prior).
-    pub sd: Option<f64>,
-}
-
-impl ParameterPrior {
-    /// The deck's `param` bounds and priors, in deck order.
-    pub fn of_deck(deck: &Deck) -> Vec<ParameterPrior> {
-        deck.params
-            .iter()
-            .map(|p| ParameterPrior {
-                min: p.min.unwrap_or(DEFAULT_MIN),
-                max: p.max.unwrap_or(DEFAULT_MAX),
-                sd: p.sd,
-            })
-            .collect()
-    }
-}
 
 /// What to estimate.
 pub struct EstimateRequest<'a> {

@@ -19,6 +19,7 @@ use faer::{c64, Mat};
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
+use super::prior::ParameterPrior;
 use super::FitError as DiagnoseError;
 use crate::model::{self, Damping, FeModel, ParameterValues};
 use crate::solvers::eigen::{self, EigenOptions, Modes};
@@ -337,6 +338,17 @@ pub fn noise_level(data: &TestData, mask: &Mask) -> f64 {
     }
 }
 
+/// The cost of residuals that end in `prior_rows` prior rows: Σ r² over
+/// the number of data rows, i.e. the data's mean square plus the prior's
+/// penalty on the same scale (the maximum a posteriori objective).
+pub fn penalised_mean_sq(r: &[f64], prior_rows: usize) -> f64 {
+    let data_rows = r.len().saturating_sub(prior_rows);
+    if data_rows == 0 {
+        return f64::INFINITY;
+    }
+    r.iter().map(|x| x * x).sum::<f64>() / data_rows as f64
+}
+
 pub fn mean_sq(r: &[f64]) -> f64 {
     if r.is_empty() {
         return f64::INFINITY;
@@ -484,11 +496,13 @@ pub fn fit_damping(
     }
 }
 
-/// Fit the deck's own parameters (relative changes p̄, bounded to
-/// [−0.9, 10]) and the damping together by Levenberg–Marquardt on the
-/// log-FRF residuals: a polish after the paper's update, which works on a
-/// few updating frequencies only. Returns the values and the damping, or
-/// `None` if the deck has no parameter or nothing improved.
+/// Fit the deck's own parameters (relative changes p̄, within the deck's
+/// `param` bounds, with its priors as in [`super::estimate`]) and the
+/// damping together by Levenberg–Marquardt on the log-FRF residuals: a
+/// polish after the paper's update, which works on a few updating
+/// frequencies only. Returns the values, the damping and the cost
+/// ([`penalised_mean_sq`]), or `None` if the deck has no parameter or
+/// nothing improved.
 pub fn fit_deck_parameters(
     deck: &Deck,
     start: &ParameterValues,
@@ -503,6 +517,8 @@ pub fn fit_deck_parameters(
         return None;
     }
     let np = names.len();
+    let priors = ParameterPrior::of_deck(deck);
+    let prior_scale = noise_level(data, mask).sqrt();
     let w_lo = data.omegas.first().copied().unwrap_or(1.0);
     let w_hi = data.omegas.last().copied().unwrap_or(1.0);
     let (dlo, dhi) = damp.form.bounds(w_lo, w_hi);
@@ -511,9 +527,9 @@ pub fn fit_deck_parameters(
         .map(|n| start.get(n).copied().unwrap_or(0.0))
         .collect();
     x0.extend(damp.x.iter().copied());
-    let mut lo = vec![-0.9; np];
+    let mut lo: Vec<f64> = priors.iter().map(|p| p.min).collect();
     lo.extend(dlo);
-    let mut hi = vec![10.0; np];
+    let mut hi: Vec<f64> = priors.iter().map(|p| p.max).collect();
     hi.extend(dhi);
     let form = damp.form;
     let mut cache: Option<(Vec<f64>, ModalModel)> = None;
@@ -529,11 +545,9 @@ pub fn fit_deck_parameters(
             cache = Some((p.to_vec(), mm));
         }
         let mm = &cache.as_ref()?.1;
-        Some(residuals(
-            &predict(mm, form.damping(&x[np..]), data, mask),
-            data,
-            mask,
-        ))
+        let mut r = residuals(&predict(mm, form.damping(&x[np..]), data, mask), data, mask);
+        ParameterPrior::push_rows(&priors, p, prior_scale, &mut r);
+        Some(r)
     };
     // Large parameter sets: fewer iterations (each Jacobian is np model solutions).
     let iters = if np > 8 { max_iter.min(3) } else { max_iter };
@@ -549,7 +563,7 @@ pub fn fit_deck_parameters(
             form,
             x: out.x[np..].to_vec(),
         },
-        mean_sq(&out.residuals),
+        penalised_mean_sq(&out.residuals, ParameterPrior::rows(&priors)),
     ))
 }
 

@@ -14,6 +14,7 @@ pub mod fit;
 pub mod jacobian;
 pub mod lm;
 pub mod objective;
+pub mod prior;
 pub mod reduced;
 pub mod uncertainty;
 

@@ -12,10 +12,10 @@ use faer::{c64, Mat};
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
-use super::estimate::ParameterPrior;
 use super::fit::{self, DampingForm, Mask};
 use super::jacobian::{self, Point};
 use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
+use super::prior::ParameterPrior;
 use super::reduced::{ReducedModel, ReducedModes};
 use super::FitError;
 
@@ -87,7 +87,7 @@ impl Objective<'_> {
 
     /// Residual rows that come from the data (the rest are prior rows).
     pub fn data_rows(&self, total: usize) -> usize {
-        total - self.priors.iter().filter(|p| p.sd.is_some()).count()
+        total - ParameterPrior::rows(&self.priors)
     }
 }
 
@@ -97,11 +97,7 @@ impl LeastSquares for Objective<'_> {
         self.predict(x)?;
         let pred = &self.last.as_ref()?.1;
         let mut r = fit::residuals(pred, data, &self.mask);
-        for (j, pr) in self.priors.iter().enumerate() {
-            if let Some(sd) = pr.sd {
-                r.push(self.prior_scale * x[j] / sd);
-            }
-        }
+        ParameterPrior::push_rows(&self.priors, x, self.prior_scale, &mut r);
         Some(r)
     }
 
