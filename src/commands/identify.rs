@@ -45,10 +45,6 @@ pub fn parse_band(s: &str) -> Result<(f64, f64), CommandError> {
 /// Identify the modes and write the folder, telling `stage` what it is doing.
 pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification, CommandError> {
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
-    // The fit's matrices are tall and thin (lines × a few dozen columns):
-    // faer's thread pool spent a third of the run waiting at its barriers
-    // (perf, 10 × 50,000 lines), so this command runs it on one thread.
-    faer::set_global_parallelism(faer::Par::Seq);
     let deck = cmd.deck.as_ref().map(|p| read_deck(p)).transpose()?;
     let (test, notes) = load_test_with_notes(&cmd.test, cmd.strict)?;
     let opts = IdentifyOptions {

@@ -26,6 +26,7 @@ use faer::{c64, Mat, Side};
 
 use super::prepare::Prepared;
 use super::IdentifyError;
+use crate::solvers::dense::product;
 
 /// The Toeplitz sums of every order up to `max_order`.
 #[derive(Clone, Debug)]
@@ -142,7 +143,7 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
             -sums.g[o * m + i][big + s - r]
         });
         let z = llt.solve(s0.as_ref());
-        mm -= (s0.transpose() * &z) * (w * w);
+        mm -= product(s0.transpose(), z.as_ref()) * (w * w);
         zs.push(z);
     }
     let pm = p * m;
@@ -172,7 +173,10 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
     let eig = companion
         .eigen()
         .map_err(|_| IdentifyError::Singular("LSCF companion eigenvalues"))?;
-    let betas: Vec<Mat<f64>> = zs.iter().map(|z| -(z * &alpha)).collect();
+    let betas: Vec<Mat<f64>> = zs
+        .iter()
+        .map(|z| -product(z.as_ref(), alpha.as_ref()))
+        .collect();
     let mut out = Vec::new();
     for e in 0..pm {
         let z = eig.S().column_vector()[e];

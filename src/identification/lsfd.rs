@@ -13,6 +13,8 @@
 
 use faer::{c64, Mat};
 
+use crate::solvers::dense::{product, thin_svd};
+
 use super::prepare::Prepared;
 use super::select::{Picked, SelectOptions};
 use super::{refine, IdentifyError};
@@ -118,11 +120,10 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
         })
         .collect();
     let an = Mat::<f64>::from_fn(a.nrows(), a.ncols(), |r, c| a[(r, c)] * scale[c]);
-    let svd = an.thin_svd().map_err(|_| IdentifyError::Singular("LSFD"))?;
-    let sv = svd.S().column_vector();
-    let top = (0..sv.nrows()).map(|i| sv[i]).fold(0.0, f64::max);
-    let utb = svd.U().transpose() * b;
-    let mut y = utb;
+    let svd = thin_svd(an.as_ref()).map_err(|_| IdentifyError::Singular("LSFD"))?;
+    let sv = &svd.s;
+    let top = sv.iter().copied().fold(0.0, f64::max);
+    let mut y = product(svd.u.transpose(), b.as_ref());
     for i in 0..y.nrows() {
         let si = sv[i];
         let inv = if si > 1e-12 * top { 1.0 / si } else { 0.0 };
@@ -130,7 +131,7 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
             y[(i, j)] *= inv;
         }
     }
-    let mut x = svd.V() * &y;
+    let mut x = product(svd.v.as_ref(), y.as_ref());
     for (c, s) in scale.iter().enumerate() {
         for j in 0..x.ncols() {
             x[(c, j)] *= s;

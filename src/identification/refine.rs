@@ -22,6 +22,7 @@ use faer::{c64, Mat, Side};
 use super::lsfd;
 use super::prepare::Prepared;
 use super::IdentifyError;
+use crate::solvers::dense::product;
 
 const MAX_ITERATIONS: usize = 40;
 const WINDOW: f64 = 8.0;
@@ -35,7 +36,7 @@ fn residual_vector(
 ) -> Result<Vec<f64>, IdentifyError> {
     let a = lsfd::design(poles, &data.omega, lines, data.kind_order);
     let x = lsfd::solve(&a, b)?;
-    let r = b - &a * &x;
+    let r = b - product(a.as_ref(), x.as_ref());
     let m = data.n_inputs();
     let mut out = Vec::with_capacity(r.nrows() * r.ncols());
     for j in 0..r.ncols() {
@@ -105,9 +106,9 @@ fn refine_group(
                 jac[(i, q)] = (a - b0) / h;
             }
         }
-        let jtj = jac.transpose() * &jac;
+        let jtj = product(jac.transpose(), jac.as_ref());
         let rv = Mat::<f64>::from_fn(r.len(), 1, |i, _| r[i]);
-        let g = jac.transpose() * &rv;
+        let g = product(jac.transpose(), rv.as_ref());
         let mut improved = false;
         for _ in 0..8 {
             let mut a = jtj.clone();

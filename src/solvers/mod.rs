@@ -4,6 +4,7 @@
 //! Used by `updating`, `diagnosis` and the command line.
 
 pub(crate) mod bandwidth;
+pub mod dense;
 pub mod eigen;
 pub mod frf;
 pub(crate) mod nested_dissection;

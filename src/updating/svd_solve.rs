@@ -7,6 +7,7 @@
 //! dropped as well. Then p = V₁ Σ₁⁻¹ U₁ᵀ b (Eq. 41). The dropped right singular
 //! vectors V₂ span the parameter combinations the equations cannot see.
 
+use crate::solvers::dense::{thin_svd, ThinSvd};
 use faer::{Mat, MatRef};
 
 /// Singular values below this fraction of σ₁ count as zero whatever the gap.
@@ -120,7 +121,7 @@ pub fn solve_gap_rule(
     } else {
         a
     };
-    let ThinSvd { s, u, v } = thin_svd(a_eff)?;
+    let ThinSvd { s, u, v } = thin_svd(a_eff).map_err(|_| SvdSolveError::NoConvergence)?;
     let (u, v) = (u.as_ref(), v.as_ref());
     let rank = gap_rank(&s, eps);
     let mut step = vec![0.0; n];
@@ -149,50 +150,6 @@ pub fn solve_gap_rule(
     })
 }
 
-/// A = U Σ Vᵀ, thin, on the calling thread: the updating equations are small
-/// (hundreds of rows, tens of columns), where handing work to the thread pool
-/// costs more than it saves (faer's `thin_svd` uses the global pool).
-fn thin_svd(a: MatRef<'_, f64>) -> Result<ThinSvd, SvdSolveError> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
-    let (m, n) = a.shape();
-    let size = m.min(n);
-    let mut s = faer::diag::Diag::<f64>::zeros(size);
-    let mut u = Mat::<f64>::zeros(m, size);
-    let mut v = Mat::<f64>::zeros(n, size);
-    let par = faer::Par::Seq;
-    let mut mem = MemBuffer::new(svd_scratch::<f64>(
-        m,
-        n,
-        ComputeSvdVectors::Thin,
-        ComputeSvdVectors::Thin,
-        par,
-        Default::default(),
-    ));
-    svd(
-        a,
-        s.as_mut(),
-        Some(u.as_mut()),
-        Some(v.as_mut()),
-        par,
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .map_err(|_| SvdSolveError::NoConvergence)?;
-    Ok(ThinSvd {
-        s: s.column_vector().iter().copied().collect(),
-        u,
-        v,
-    })
-}
-
-/// A = U diag(s) Vᵀ with min(M, N) columns in U and V, s non-increasing.
-struct ThinSvd {
-    s: Vec<f64>,
-    u: Mat<f64>,
-    v: Mat<f64>,
-}
-
 /// Flip a vector so that its largest-magnitude entry is positive (deterministic signs).
 pub(crate) fn canonical_sign(v: &mut [f64]) {
     let mut best = 0.0f64;
@@ -218,7 +175,7 @@ pub fn truncated_pseudo_inverse(
     if (0..n).any(|j| (0..m).any(|i| !a[(i, j)].is_finite())) {
         return Err(SvdSolveError::NonFinite);
     }
-    let ThinSvd { s, u, v } = thin_svd(a)?;
+    let ThinSvd { s, u, v } = thin_svd(a).map_err(|_| SvdSolveError::NoConvergence)?;
     let (u, v) = (u.as_ref(), v.as_ref());
     let r = rank.min(s.len());
     let mut out = Mat::<f64>::zeros(n, m);

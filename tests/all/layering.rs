@@ -251,6 +251,39 @@ fn no_import_cycle() {
     );
 }
 
+/// No hidden global state: no module changes a process-wide setting that
+/// other code reads (faer's global parallelism, environment variables) or
+/// keeps a mutable static. Kernels take their parallelism as an argument
+/// (`solvers::dense` runs on the calling thread).
+#[test]
+fn no_process_wide_settings() {
+    let forbidden = [
+        "set_global_parallelism",
+        "static mut",
+        "env::set_var",
+        "remove_var(",
+    ];
+    let mut files: Vec<(String, String)> = modules()
+        .into_iter()
+        .map(|(m, text)| (name(&m), text))
+        .collect();
+    for root in ["lib.rs", "main.rs"] {
+        files.push((
+            root.into(),
+            std::fs::read_to_string(src().join(root)).unwrap(),
+        ));
+    }
+    let mut found = Vec::new();
+    for (file, text) in files {
+        for f in forbidden {
+            if text.contains(f) {
+                found.push(format!("{file}: {f}"));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}
+
 #[test]
 fn the_reader_finds_grouped_and_nested_paths() {
     let paths = crate_paths(

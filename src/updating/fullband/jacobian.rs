@@ -201,7 +201,7 @@ fn complex_product(
     gi: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
 ) -> (Mat<f64>, Mat<f64>) {
-    let par = faer::get_global_parallelism();
+    let par = Par::Seq;
     let mut re = Mat::<f64>::zeros(gr.nrows(), c.ncols());
     let mut im = Mat::<f64>::zeros(gr.nrows(), c.ncols());
     matmul(re.as_mut(), Accum::Replace, gr, c, 1.0, par);
