@@ -232,6 +232,7 @@ fn group_iy_parameters(deck: &mut Deck, n_params: usize) {
             min: None,
             max: None,
             sd: None,
+            prior_centre: 0.0,
             pos,
         });
     }

@@ -285,7 +285,7 @@ fn frf_stage(
     hi.extend(dhi);
     let form = damp.form;
     let k = problem.n_logs();
-    let prior_scale = fit::noise_level(data, mask).sqrt();
+    let prior_scale = ParameterPrior::row_scale(fit::noise_level(data, mask));
     let prior_rows = ParameterPrior::rows(&problem.deck_priors);
     // The model depends on x only: damping steps reuse it.
     let mut cache: Option<(Vec<f64>, ModalModel)> = None;
@@ -311,7 +311,7 @@ fn frf_stage(
     let sd = fit::std_devs(jac.as_ref(), &out.residuals);
     Some((
         out.x[..n].to_vec(),
-        fit::penalised_mean_sq(&out.residuals, prior_rows),
+        fit::data_mean_sq(&out.residuals, prior_rows),
         DampingState {
             form,
             x: out.x[n..].to_vec(),

@@ -172,8 +172,9 @@ pub fn updated_deck(deck: &Deck, values: &ParameterValues) -> Deck {
 /// The `min`/`max` bounds of each `param` re-expressed against the updated
 /// values, so that they bound the same physical values: a property bounded
 /// to (1 + min)·v₀ is (1 + min')·(1 + p̄)·v₀ with 1 + min' = (1 + min)/(1 + p̄).
-/// A prior `sd` is kept as written: its centre, the original value, is not
-/// expressible once the deck is updated.
+/// A prior `sd` is kept as written; its centre, the original value, moves
+/// the same way in memory (`Param::prior_centre`), which the deck format
+/// cannot write.
 fn rebase_bounds(params: &mut [frfup_parsers::deck::Param], values: &ParameterValues) {
     for p in params {
         let v = values.get(&p.name).copied().unwrap_or(0.0);
@@ -181,6 +182,7 @@ fn rebase_bounds(params: &mut [frfup_parsers::deck::Param], values: &ParameterVa
             let rebase = |b: f64| (1.0 + b) / (1.0 + v) - 1.0;
             p.min = p.min.map(rebase);
             p.max = p.max.map(rebase);
+            p.prior_centre = rebase(p.prior_centre);
         }
     }
 }

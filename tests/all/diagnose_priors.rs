@@ -88,6 +88,41 @@ fn polish_keeps_the_deck_bounds_and_priors() {
     );
 }
 
+/// On a deck updated in memory (as the diagnosis's later fits see it) the
+/// prior still pulls towards the value written in the deck, not towards
+/// the update's: a dominating prior (sd = 1e-6) brings the girder of the
+/// deck updated by the truth (−12 %) back to the written value, +13.6 %
+/// of the updated one.
+#[test]
+fn a_prior_keeps_its_centre_on_an_updated_deck() {
+    let (deck, data) = case("sd=1e-6");
+    let truth: ParameterValues = [("girder".to_string(), -0.12), ("columns".to_string(), 0.08)]
+        .into_iter()
+        .collect();
+    let updated = frfup::model::updated_deck(&deck, &truth);
+    let damp = DampingState {
+        form: DampingForm::Modal,
+        x: vec![0.01f64.ln()],
+    };
+    let (values, _, _) = fit_deck_parameters(
+        &updated,
+        &ParameterValues::new(),
+        &damp,
+        &data,
+        &Mask::all(&data),
+        8,
+        &Cell::new(0),
+    )
+    .expect("the polish runs");
+    let centre = 0.12 / 0.88;
+    let g = values["girder"];
+    println!("girder {g:+.6} on the updated deck, written value at {centre:+.6}");
+    assert!(
+        (g - centre).abs() < 1e-3 * centre,
+        "girder {g}, prior centre {centre}"
+    );
+}
+
 #[test]
 fn joint_fits_take_the_deck_bounds() {
     let (deck, _) = case("min=-0.05 max=0.2");

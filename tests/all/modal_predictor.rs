@@ -77,6 +77,8 @@ fn predictor_equals_the_direct_solution_for_every_damping_form() {
         let exact = direct(&deck, &data);
         assert_eq!(pred.len(), exact.len());
         for (c, (p, e)) in pred.iter().zip(&exact).enumerate() {
+            assert_eq!(p.len(), e.len(), "channel {c}: every line predicted");
+            assert!(p.iter().all(|z| z.re.is_finite() && z.im.is_finite()));
             let scale = e.iter().map(|z| z.norm()).fold(0.0, f64::max);
             let worst = p
                 .iter()
@@ -117,6 +119,7 @@ fn masked_prediction_keeps_the_unmasked_values() {
             assert!(p.is_empty(), "channel {c} masked");
             continue;
         }
+        assert_eq!(p.len(), f.len(), "channel {c}: every line");
         for (l, (a, b)) in p.iter().zip(f).enumerate() {
             if mask.lines[l] {
                 assert_eq!(

@@ -178,6 +178,16 @@ fn updated_deck_keeps_the_physical_bounds_of_each_parameter() {
     assert!((min - (0.5 / 1.2 - 1.0)).abs() < 1e-12, "{min}");
     assert!((max - (1.5 / 1.2 - 1.0)).abs() < 1e-12, "{max}");
     assert_eq!(p.sd, Some(0.1));
+    // In memory the prior stays centred on the written value: c = −v/(1 + v)
+    // with sd s/(1 + v); a written deck cannot say so and starts at 0.
+    assert_eq!(p.prior_centre, 0.0);
+    let in_memory = updated_deck(&d, &values);
+    let prior = frfup::updating::fullband::prior::ParameterPrior::of_deck(&in_memory)[0];
+    assert!(
+        (prior.centre - (1.0 / 1.2 - 1.0)).abs() < 1e-15,
+        "{prior:?}"
+    );
+    assert!((prior.sd.unwrap() - 0.1 / 1.2).abs() < 1e-15, "{prior:?}");
     // Unchanged parameters keep their bounds as written.
     let unchanged = updated_deck(&d, &ParameterValues::new());
     assert_eq!(write(&unchanged), write(&d));

@@ -406,6 +406,11 @@ pub struct Param {
     /// `sd=S`: one standard deviation of a zero-mean prior on p (`None`: no
     /// prior).
     pub sd: Option<f64>,
+    /// Where the prior is centred, as a relative change of this deck's
+    /// value: 0 as written; a deck updated in memory by v moves it to the
+    /// written value, (1 + c)/(1 + v) − 1 (the deck format has no word for
+    /// it, so a written deck loses it).
+    pub prior_centre: f64,
     pub pos: Pos,
 }
 

@@ -221,6 +221,7 @@ fn param(first: &Token<'_>, args: &[Token<'_>]) -> Result<Param, DeckError> {
         min: kv.number("min")?,
         max: kv.number("max")?,
         sd: kv.number("sd")?,
+        prior_centre: 0.0,
         pos: first.pos,
     })
 }

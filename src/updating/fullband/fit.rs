@@ -223,6 +223,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
     // a[r][k] for the active channels k.
     let mut coeff = vec![0.0; nm * na];
     for (k, &c) in active.iter().enumerate() {
+        debug_assert_eq!(mm.coeff[c].len(), nm, "one coefficient per mode");
         for (r, &a) in mm.coeff[c].iter().enumerate().take(nm) {
             coeff[r * na + k] = a;
         }
@@ -338,15 +339,11 @@ pub fn noise_level(data: &TestData, mask: &Mask) -> f64 {
     }
 }
 
-/// The cost of residuals that end in `prior_rows` prior rows: Σ r² over
-/// the number of data rows, i.e. the data's mean square plus the prior's
-/// penalty on the same scale (the maximum a posteriori objective).
-pub fn penalised_mean_sq(r: &[f64], prior_rows: usize) -> f64 {
-    let data_rows = r.len().saturating_sub(prior_rows);
-    if data_rows == 0 {
-        return f64::INFINITY;
-    }
-    r.iter().map(|x| x * x).sum::<f64>() / data_rows as f64
+/// The mean squared residual of the data rows of `r`, which ends in
+/// `prior_rows` prior rows ([`ParameterPrior::push_rows`]): the cost every
+/// comparison of fits uses, with or without priors.
+pub fn data_mean_sq(r: &[f64], prior_rows: usize) -> f64 {
+    mean_sq(&r[..r.len().saturating_sub(prior_rows)])
 }
 
 pub fn mean_sq(r: &[f64]) -> f64 {
@@ -500,9 +497,10 @@ pub fn fit_damping(
 /// `param` bounds, with its priors as in [`super::estimate`]) and the
 /// damping together by Levenberg–Marquardt on the log-FRF residuals: a
 /// polish after the paper's update, which works on a few updating
-/// frequencies only. Returns the values, the damping and the cost
-/// ([`penalised_mean_sq`]), or `None` if the deck has no parameter or
-/// nothing improved.
+/// frequencies only. Returns the values, the damping and the data's mean
+/// squared residual at them ([`data_mean_sq`]: the prior shapes the fit,
+/// costs compare data), or `None` if the deck has no parameter or nothing
+/// improved.
 pub fn fit_deck_parameters(
     deck: &Deck,
     start: &ParameterValues,
@@ -518,7 +516,7 @@ pub fn fit_deck_parameters(
     }
     let np = names.len();
     let priors = ParameterPrior::of_deck(deck);
-    let prior_scale = noise_level(data, mask).sqrt();
+    let prior_scale = ParameterPrior::row_scale(noise_level(data, mask));
     let w_lo = data.omegas.first().copied().unwrap_or(1.0);
     let w_hi = data.omegas.last().copied().unwrap_or(1.0);
     let (dlo, dhi) = damp.form.bounds(w_lo, w_hi);
@@ -563,7 +561,7 @@ pub fn fit_deck_parameters(
             form,
             x: out.x[np..].to_vec(),
         },
-        penalised_mean_sq(&out.residuals, ParameterPrior::rows(&priors)),
+        data_mean_sq(&out.residuals, ParameterPrior::rows(&priors)),
     ))
 }
 
