@@ -406,20 +406,15 @@ fn convert(a: ConvertArgs, g: &Global) -> Result<(), CommandError> {
 
 fn modes(a: ModesArgs, g: &Global) -> Result<(), CommandError> {
     let values = commands::modes::parse_settings(&a.set)?;
-    let reporter = StageReporter::new(g.progress);
-    let rows = commands::modes::run(
-        &commands::modes::ModesOptions {
-            deck: a.deck.clone(),
-            count: a.count,
-            csv: a.csv,
-            shapes: a.shapes,
-            uff: a.uff,
-            values,
-        },
-        &|s| reporter.stage(s),
-    );
-    reporter.finish();
-    let rows = rows?;
+    let opts = commands::modes::ModesOptions {
+        deck: a.deck.clone(),
+        count: a.count,
+        csv: a.csv,
+        shapes: a.shapes,
+        uff: a.uff,
+        values,
+    };
+    let rows = with_stages(g, |stage| commands::modes::run(&opts, stage))?;
     if a.json {
         print_json(&commands::modes::json(&a.deck, &rows));
     } else {
@@ -453,20 +448,15 @@ fn simulate(a: SimulateArgs, g: &Global) -> Result<(), CommandError> {
         noise: a.noise,
         seed: a.seed,
     };
-    let reporter = StageReporter::new(g.progress);
-    let n = sim::run(
-        &sim::SimulateOptions {
-            deck: a.deck,
-            out: a.out.clone(),
-            campaign,
-            values: commands::modes::parse_settings(&a.set)?,
-            binary: a.binary,
-            single: a.single,
-        },
-        &|s| reporter.stage(s),
-    );
-    reporter.finish();
-    let n = n?;
+    let opts = sim::SimulateOptions {
+        deck: a.deck,
+        out: a.out.clone(),
+        campaign,
+        values: commands::modes::parse_settings(&a.set)?,
+        binary: a.binary,
+        single: a.single,
+    };
+    let n = with_stages(g, |stage| sim::run(&opts, stage))?;
     if !g.quiet {
         eprintln!("wrote {n} FRF record(s) to {}", a.out.display());
     }
@@ -505,6 +495,18 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
     check_thresholds(&outcome, a.thresholds)
 }
 
+/// Run `work` with a display of its stages (a spinner on a terminal, lines
+/// with `--progress` off one), cleared before its result is returned.
+fn with_stages<T>(
+    g: &Global,
+    work: impl FnOnce(&dyn Fn(&str)) -> Result<T, CommandError>,
+) -> Result<T, CommandError> {
+    let reporter = StageReporter::new(g.progress);
+    let out = work(&|s| reporter.stage(s));
+    reporter.finish();
+    out
+}
+
 /// An update's progress on the bar: a step per scored iteration, and the
 /// name of the full-band estimate while it runs (it scores nothing until it
 /// ends).
@@ -535,10 +537,7 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         },
         strict: g.strict,
     };
-    let reporter = StageReporter::new(g.progress);
-    let d = commands::diagnose::run(&cmd, &|s| reporter.stage(s));
-    reporter.finish();
-    let d = d?;
+    let d = with_stages(g, |stage| commands::diagnose::run(&cmd, stage))?;
     if g.verbose {
         for (stage, secs, units) in &d.timings {
             eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
@@ -571,20 +570,15 @@ fn identify(a: IdentifyArgs, g: &Global) -> Result<(), CommandError> {
         .as_deref()
         .map(commands::identify::parse_band)
         .transpose()?;
-    let reporter = StageReporter::new(g.progress);
-    let id = commands::identify::run(
-        &commands::identify::IdentifyCommand {
-            test: a.test,
-            out: a.out.clone(),
-            band_hz,
-            max_order: a.max_order,
-            deck: a.deck,
-            strict: g.strict,
-        },
-        &|s| reporter.stage(s),
-    );
-    reporter.finish();
-    let id = id?;
+    let cmd = commands::identify::IdentifyCommand {
+        test: a.test,
+        out: a.out.clone(),
+        band_hz,
+        max_order: a.max_order,
+        deck: a.deck,
+        strict: g.strict,
+    };
+    let id = with_stages(g, |stage| commands::identify::run(&cmd, stage))?;
     if !g.quiet {
         print!("{}", commands::identify::summary(&id));
         println!("wrote {}", a.out.display());

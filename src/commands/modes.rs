@@ -142,8 +142,8 @@ pub fn csv_text(rows: &[ModeRow]) -> String {
     s
 }
 
-/// Run `frfup modes` (telling `stage` what it is doing): solve, write `--csv` if asked; returns the rows to
-/// print ([`table`] or [`json`]).
+/// Run `frfup modes`, telling `stage` what it is doing: solve, write
+/// `--csv` if asked; returns the rows to print ([`table`] or [`json`]).
 pub fn run(opts: &ModesOptions, stage: &dyn Fn(&str)) -> Result<Vec<ModeRow>, CommandError> {
     let rows = solve(opts, stage)?;
     if let Some(csv) = &opts.csv {

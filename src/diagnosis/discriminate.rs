@@ -18,7 +18,7 @@ use frfup_parsers::deck::Deck;
 
 use super::data::{ChannelInfo, TestData};
 use super::fit::{self, Mask};
-use crate::model::{self, Damping, Dof, ParameterValues};
+use crate::model::{self, Damping, Dof, FeModel, ParameterValues};
 
 /// Lines of the moving average of the dB difference.
 pub const SMOOTH_LINES: usize = 5;
@@ -73,10 +73,22 @@ pub fn tell_apart(
     alternative: &str,
     data: &TestData,
 ) -> Option<TellApart> {
-    let probe = probe_data(a.0, b.0, data)?;
+    let fa = model::build(a.0, &ParameterValues::new()).ok()?;
+    let fb = model::build(b.0, &ParameterValues::new()).ok()?;
+    let probe = probe_data(&fa, &fb, data)?;
     let mask = Mask::all(&probe);
-    let ha = fit::predict(&fit::modal_model(a.0, &probe).ok()?, a.1, &probe, &mask);
-    let hb = fit::predict(&fit::modal_model(b.0, &probe).ok()?, b.1, &probe, &mask);
+    let ha = fit::predict(
+        &fit::modal_solution(&fa, &probe).ok()?.model,
+        a.1,
+        &probe,
+        &mask,
+    );
+    let hb = fit::predict(
+        &fit::modal_solution(&fb, &probe).ok()?.model,
+        b.1,
+        &probe,
+        &mask,
+    );
     let floor = FLOOR_SIGMAS * super::data_errors::median(&data.sigma).unwrap_or(0.0);
     let mut best: Option<(usize, usize, f64, Vec<f64>)> = None;
     for c in 0..probe.channels.len() {
@@ -106,11 +118,9 @@ pub fn tell_apart(
     })
 }
 
-/// `data` with its channels replaced by the translational DOFs of `a` that
-/// `b` has too and the test did not measure.
-fn probe_data(a: &Deck, b: &Deck, data: &TestData) -> Option<TestData> {
-    let fa = model::build(a, &ParameterValues::new()).ok()?;
-    let fb = model::build(b, &ParameterValues::new()).ok()?;
+/// `data` with its channels replaced by the translational DOFs of `fa`
+/// that `fb` has too and the test did not measure.
+fn probe_data(fa: &FeModel, fb: &FeModel, data: &TestData) -> Option<TestData> {
     let measured = |node: u32, dir: i32| {
         data.channels
             .iter()

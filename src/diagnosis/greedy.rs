@@ -236,22 +236,21 @@ impl Greedy {
         m: f64,
         data: &TestData,
     ) {
-        let tell_apart = scored
-            .iter()
-            .skip(1)
-            .find(|(o, _, vo)| *vo < v + m && o.label != h.label)
-            .and_then(|(o, fo, _)| {
-                discriminate::tell_apart(
-                    (&self.explained(&h, &f), f.damping.damping()),
-                    (&self.explained(o, fo), fo.damping.damping()),
-                    &o.label,
-                    data,
-                )
-            });
-        let alternatives: Vec<String> = scored
+        let close: Vec<&(Hypothesis, HypFit, f64)> = scored
             .iter()
             .skip(1)
             .filter(|(o, _, vo)| *vo < v + m && o.label != h.label)
+            .collect();
+        let tell_apart = close.first().and_then(|(o, fo, _)| {
+            discriminate::tell_apart(
+                (&self.explained(&h, &f), f.damping.damping()),
+                (&self.explained(o, fo), fo.damping.damping()),
+                &o.label,
+                data,
+            )
+        });
+        let alternatives: Vec<String> = close
+            .iter()
             .map(|(o, fo, vo)| {
                 format!(
                     "{} ({}validation error {vo:.4})",

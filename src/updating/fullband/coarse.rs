@@ -50,11 +50,7 @@ impl LeastSquares for Frequencies<'_> {
     fn residuals(&mut self, p: &[f64]) -> Option<Vec<f64>> {
         let data = self.data;
         let mut r = fit::frequency_residuals(&self.solution(p)?.2.model, data);
-        for (j, pr) in self.priors.iter().enumerate() {
-            if let Some(sd) = pr.sd {
-                r.push(COARSE_PRIOR * p[j] / sd);
-            }
-        }
+        ParameterPrior::push_rows(self.priors, p, COARSE_PRIOR, &mut r);
         Some(r)
     }
 
@@ -81,13 +77,7 @@ impl LeastSquares for Frequencies<'_> {
                 }
             }
         }
-        let mut row = align.len();
-        for (j, pr) in self.priors.iter().enumerate() {
-            if let Some(sd) = pr.sd {
-                jac[(row, j)] = COARSE_PRIOR / sd;
-                row += 1;
-            }
-        }
+        ParameterPrior::fill_rows(self.priors, COARSE_PRIOR, &mut jac, align.len());
         Some(jac)
     }
 }

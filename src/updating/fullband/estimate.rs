@@ -132,6 +132,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     }
     let mask = Mask::all(req.data);
     let j0 = fit::noise_level(req.data, &mask).max(1e-12);
+    let prior_scale = ParameterPrior::row_scale(j0);
     let damp0 = fit::start_damping(Damping::of_deck(req.deck), req.data);
     let mut obj = Objective {
         deck: req.deck,
@@ -140,7 +141,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         names: names.clone(),
         priors: priors.clone(),
         form: damp0.form,
-        prior_scale: j0.sqrt(),
+        prior_scale,
         reduced: None,
         previous: None,
         cache: None,
@@ -162,7 +163,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     let j0 = fit::noise_level(&weighted, &mask).max(1e-12);
     let mut obj = Objective {
         data: &weighted,
-        prior_scale: j0.sqrt(),
+        prior_scale: ParameterPrior::row_scale(j0),
         ..obj
     };
     let mut first = first;

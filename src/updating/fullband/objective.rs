@@ -119,13 +119,7 @@ impl LeastSquares for Objective<'_> {
         }
         let mut jac = Mat::<f64>::zeros(r.len(), x.len());
         jac.as_mut().subrows_mut(0, data_n).copy_from(&data_jac);
-        let mut row = data_n;
-        for (j, pr) in self.priors.iter().enumerate() {
-            if let Some(sd) = pr.sd {
-                jac[(row, j)] = self.prior_scale / sd;
-                row += 1;
-            }
-        }
+        ParameterPrior::fill_rows(&self.priors, self.prior_scale, &mut jac, data_n);
         Some(jac)
     }
 

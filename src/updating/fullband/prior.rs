@@ -4,6 +4,7 @@
 //! [`super::estimate`], shared by every fit of the deck's parameters (the
 //! update's estimate, the diagnosis's polish and joint fits).
 
+use faer::Mat;
 use frfup_parsers::deck::Deck;
 
 /// Default hard bounds of a relative change p̄ (a property between 0.1× and
@@ -55,6 +56,18 @@ impl ParameterPrior {
     /// that a noise-free campaign keeps its priors).
     pub fn row_scale(j0: f64) -> f64 {
         j0.max(1e-12).sqrt()
+    }
+
+    /// The derivatives of those rows, ∂/∂p̄_j = scale/s_j, written into
+    /// `jac` from row `first` on (column j of parameter j).
+    pub fn fill_rows(priors: &[ParameterPrior], scale: f64, jac: &mut Mat<f64>, first: usize) {
+        let mut row = first;
+        for (j, pr) in priors.iter().enumerate() {
+            if let Some(sd) = pr.sd {
+                jac[(row, j)] = scale / sd;
+                row += 1;
+            }
+        }
     }
 
     /// Number of prior rows [`Self::push_rows`] appends.
