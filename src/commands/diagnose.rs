@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use crate::diagnosis::{self, DiagnoseOptions, Diagnosis};
+use crate::report::diagnosis::{write_outputs, DiagnosisReport};
 use crate::tasks::{
     check_model_for_modes, load_test_with_notes, name_mechanism_equations, read_deck, CommandError,
 };
@@ -40,19 +41,24 @@ pub fn run(cmd: &DiagnoseCommand, stage: &dyn Fn(&str)) -> Result<Diagnosis, Com
             cmd.test.display()
         ))
     })?;
+    stage("identifying the test's modes for the mode-shape viewer");
+    let test_modes = crate::identification::identify_and_pair(&d.diagnosed_deck, &test);
     stage("writing the report");
-    crate::fsio::write_folder(&cmd.out, |dir| {
-        crate::report::diagnosis::write_outputs_with_notes(
-            &d,
-            &deck,
-            &test,
-            dir,
-            &cmd.deck.display().to_string(),
-            &cmd.test.display().to_string(),
-            &notes,
-        )
-    })
-    .map_err(|e| CommandError::output(&cmd.out, e))?;
+    let (deck_name, test_name) = (
+        cmd.deck.display().to_string(),
+        cmd.test.display().to_string(),
+    );
+    let report = DiagnosisReport {
+        diagnosis: &d,
+        deck: &deck,
+        test: &test,
+        deck_name: &deck_name,
+        test_name: &test_name,
+        test_modes: &test_modes,
+        notes: &notes,
+    };
+    crate::fsio::write_folder(&cmd.out, |dir| write_outputs(&report, dir))
+        .map_err(|e| CommandError::output(&cmd.out, e))?;
     Ok(d)
 }
 

@@ -6,8 +6,8 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use crate::identification::{self, Identification, IdentifyOptions, ModeKind};
-use crate::report::identification::{pair_with_deck, write_outputs, IdentifyReport};
+use crate::identification::{self, pair_with_deck, Identification, IdentifyOptions, ModeKind};
+use crate::report::identification::{write_outputs, IdentifyReport};
 use crate::report::viewer::sources::from_identification;
 use crate::tasks::{load_test_with_notes, read_deck, CommandError};
 

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use crate::fsio::write_atomic;
 use crate::model::{self, ParameterValues};
 use crate::report::shapes;
+use crate::solvers::eigen::nodal;
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
 use crate::tasks::{eigen_error, model_error, read_deck, CommandError};
 
@@ -98,7 +99,7 @@ fn write_shapes(
     if opts.shapes.is_none() && opts.uff.is_none() {
         return Ok(());
     }
-    let set = shapes::fe_modes(deck, fe, modes, &opts.deck.display().to_string());
+    let set = nodal::fe_modes(deck, fe, modes, &opts.deck.display().to_string());
     if let Some(path) = &opts.shapes {
         write_atomic(path, shapes::shapes_csv(&[&set]).as_bytes())
             .map_err(|e| CommandError::output(path, e))?;

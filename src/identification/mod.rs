@@ -2,7 +2,8 @@
 //! shapes identified from measured FRFs, with no user picking.
 //!
 //! Stage of the pipeline testdata → identification → updating/diagnosis: it
-//! uses only [`crate::testdata`] and faer.
+//! uses [`crate::testdata`] and faer; only [`pairing`] (test modes against a
+//! deck's) also builds the model and solves its modes.
 //!
 //! 1. [`prepare`]: the FRFs in the band as an output × input matrix per line
 //!    (several references when every response is measured for each of them,
@@ -36,6 +37,8 @@
 //! 6. [`quality`]: modal phase collinearity (MPC), mean phase deviation
 //!    (MPD), complexity; [`classify`]: rigid-body/suspension modes (far below
 //!    the first elastic mode) told from elastic ones.
+//! 7. [`pairing`] (with a deck): the test modes paired with the deck's FE
+//!    modes by MAC at the measured DOFs.
 //!
 //! Units: frequencies in Hz at the interface, ω in rad/s inside; residues in
 //! the units of receptance × rad/s (m/N/s) whatever the FRF kind.
@@ -43,6 +46,7 @@
 pub mod classify;
 pub mod lscf;
 pub mod lsfd;
+pub mod pairing;
 pub mod prepare;
 pub mod quality;
 pub mod refine;
@@ -54,6 +58,7 @@ use faer::c64;
 use crate::testdata::MeasuredFrfs;
 
 pub use classify::ModeKind;
+pub use pairing::{identify_and_pair, pair_with_deck, PairedModes, Pairing, PAIR_MAC};
 pub use prepare::{Dof, Prepared};
 pub use quality::Quality;
 pub use stabilisation::{Diagram, DiagramPole, Stability};

@@ -35,6 +35,7 @@ pub use charts::ChartError;
 pub use data::{report_data, ReportData, ReportInputs};
 
 use crate::fsio::write_atomic;
+use crate::solvers::eigen::nodal;
 use crate::testdata::MeasuredFrfs;
 use crate::updating::model_states::ModelStates;
 use crate::updating::UpdateResult;
@@ -210,7 +211,7 @@ fn shape_files(
         .iter()
         .map(|r| r.damping_ratio.unwrap_or(0.0))
         .collect();
-    let test = shapes::at_points(
+    let test = nodal::at_points(
         kind,
         &inputs.test_path,
         &test_hz,
@@ -218,7 +219,7 @@ fn shape_files(
         &meas.points,
         &test_shapes,
     );
-    let fe = shapes::at_points(
+    let fe = nodal::at_points(
         "updated FE mode",
         &inputs.deck_path,
         &states.updated.modes_hz,

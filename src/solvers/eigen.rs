@@ -10,6 +10,7 @@
 
 pub mod dense;
 pub mod lanczos;
+pub mod nodal;
 pub mod tridiagonal;
 
 use faer::reborrow::{Reborrow, ReborrowMut};

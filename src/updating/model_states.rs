@@ -1,5 +1,6 @@
 //! The model states an update compares with the test, evaluated for display:
-//! the initial and the updated model's FRFs and modes at the measured DOFs.
+//! the initial and the updated model's FRFs and modes at the measured DOFs,
+//! and the updated model's modes at every node (for the mode-shape viewer).
 //!
 //! Model FRFs: the model is built at p̄ = 0 and at the returned p̄, its modes
 //! are computed up to at least twice the highest measured line, and the
@@ -15,6 +16,7 @@ use num_complex::Complex64;
 use super::measured::MeasuredDofs;
 use super::{mac_matrix, MacMatrix, ModePair, UpdateResult};
 use crate::model::{self, Damping, FeModel, ParameterValues};
+use crate::solvers::eigen::nodal::{fe_shapes, FeShapes};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
 use crate::solvers::frf;
 use crate::testdata::MeasuredFrfs;
@@ -35,6 +37,9 @@ pub struct ModelView {
     pub modes_hz: Vec<f64>,
     /// Mode shapes at the measured DOFs, [mode][measured DOF].
     pub shapes: Vec<Vec<f64>>,
+    /// The same modes at every node of the deck (the updated model's only,
+    /// for the report's mode-shape viewer).
+    pub nodal: Option<FeShapes>,
     /// Why the FRFs or modes are missing, if they are.
     pub error: Option<String>,
 }
@@ -104,7 +109,7 @@ pub fn model_states(result: &UpdateResult, deck: &Deck, test: &MeasuredFrfs) -> 
     let (initial, updated) = match &meas {
         Some(meas) => {
             let initial = view(
-                "initial model",
+                ("initial model", None),
                 model0,
                 meas,
                 &choice,
@@ -117,7 +122,7 @@ pub fn model_states(result: &UpdateResult, deck: &Deck, test: &MeasuredFrfs) -> 
                 model::build(deck, &result.parameter_values()).map_err(|e| e.to_string())
             };
             let updated = view(
-                "updated model",
+                ("updated model", Some(deck)),
                 updated_model,
                 meas,
                 &choice,
@@ -239,9 +244,10 @@ fn modes_covering(model: &FeModel, f_max: f64, start: usize) -> Result<Modes, St
     }
 }
 
-/// Evaluate `model` at the measured DOFs.
+/// Evaluate `model` at the measured DOFs (and, given its deck, its modes
+/// at every node).
 fn view(
-    label: &str,
+    (label, deck): (&str, Option<&Deck>),
     model: Result<FeModel, String>,
     meas: &MeasuredDofs,
     choice: &DampingChoice,
@@ -319,6 +325,7 @@ fn view(
         receptance,
         modes_hz,
         shapes,
+        nodal: deck.map(|d| fe_shapes(d, &model, &modes)),
         error,
     }
 }

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use frfup::diagnosis::verdict::Verdict;
 use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis, Finding};
 use frfup::parsers::deck::Deck;
-use frfup::report::diagnosis::write_outputs;
+use frfup::report::diagnosis::{write_outputs, DiagnosisReport};
 use frfup::testdata::MeasuredFrfs;
 
 use crate::png_support::{render_and_check, rsvg_available};
@@ -368,10 +368,20 @@ fn written_whole_and_deterministic(
     dir: &Path,
 ) -> (Vec<String>, Vec<Vec<u8>>) {
     let _ = std::fs::remove_dir_all(dir);
+    let test_modes = frfup::identification::identify_and_pair(&d.diagnosed_deck, test);
+    let report = DiagnosisReport {
+        diagnosis: d,
+        deck,
+        test,
+        deck_name: "joint.deck",
+        test_name: "joint.uff",
+        test_modes: &test_modes,
+        notes: &[],
+    };
     // A channel chart of an earlier, larger run must not survive.
     std::fs::create_dir_all(dir.join("frf")).unwrap();
     std::fs::write(dir.join("frf/99-old.svg"), "<svg/>").unwrap();
-    write_outputs(d, deck, test, dir, "joint.deck", "joint.uff").unwrap();
+    write_outputs(&report, dir).unwrap();
     let files = tree(dir);
     let n = d.channels.len();
     assert_eq!(n, 6);
@@ -399,7 +409,7 @@ fn written_whole_and_deterministic(
         .iter()
         .map(|f| std::fs::read(dir.join(f)).unwrap())
         .collect();
-    write_outputs(d, deck, test, dir, "joint.deck", "joint.uff").unwrap();
+    write_outputs(&report, dir).unwrap();
     assert_eq!(tree(dir), files, "no temporary or extra file");
     for (f, b) in files.iter().zip(&bytes) {
         assert_eq!(

@@ -16,26 +16,41 @@ use super::charts::ChartError;
 use super::data::{pretty_units, resonance_marks};
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::{describe_damping, Diagnosis};
+use crate::identification::PairedModes;
 use crate::testdata::MeasuredFrfs;
 
 pub mod output;
 pub mod page;
 
-pub use output::{write_outputs, write_outputs_with_notes};
+pub use output::write_outputs;
 pub use page::{diagnosis_html, Embedded};
 
 /// Names of the three models, in the order of the fit table.
 pub const MODEL_NAMES: [&str; 3] = ["as given", "parameters updated", "diagnosed"];
 
+/// What a diagnosis report is made of: the algorithms' results, the inputs
+/// and their names.
+pub struct DiagnosisReport<'a> {
+    pub diagnosis: &'a Diagnosis,
+    /// The analyst's deck, as given.
+    pub deck: &'a Deck,
+    /// The test as read (before any data-error correction).
+    pub test: &'a MeasuredFrfs,
+    pub deck_name: &'a str,
+    pub test_name: &'a str,
+    /// The test's modes paired with the diagnosed deck's
+    /// ([`crate::identification::identify_and_pair`]), for the mode-shape
+    /// viewer; why not, when they could not be.
+    pub test_modes: &'a Result<PairedModes, String>,
+    /// What the readers noticed in the inputs (data skipped or doubtful).
+    pub notes: &'a [String],
+}
+
 /// The rendered files of a diagnosis report besides `diagnosis.json`,
 /// `diagnosed.deck` and `report.md`: (path relative to the folder, bytes).
-pub fn render_files(
-    d: &Diagnosis,
-    deck: &Deck,
-    test: &MeasuredFrfs,
-    deck_name: &str,
-    test_name: &str,
-) -> Result<Vec<(String, Vec<u8>)>, ChartError> {
+pub fn render_files(r: &DiagnosisReport) -> Result<Vec<(String, Vec<u8>)>, ChartError> {
+    let (d, deck, test) = (r.diagnosis, r.deck, r.test);
+    let (deck_name, test_name) = (r.deck_name, r.test_name);
     let map = localisation_map(d, deck, deck_name);
     let (overlay, frf_note) = overlay(d, deck, &d.data, test);
     let loc_svg = localisation::render(&map)?;
@@ -51,7 +66,7 @@ pub fn render_files(
         files.push((name, svg.clone().into_bytes()));
         channels.push((ch.label.clone(), svg));
     }
-    let (shapes, still) = super::viewer::diagnosis_section(d, test);
+    let (shapes, still) = super::viewer::diagnosis_section(&d.diagnosed_deck, r.test_modes);
     files.extend(still.map(|svg| (super::viewer::STILL_FILE.to_string(), svg.into_bytes())));
     let mut listed: Vec<String> = files.iter().map(|f| f.0.clone()).collect();
     listed.extend(

@@ -5,13 +5,11 @@
 
 use std::path::Path;
 
-use frfup_parsers::deck::Deck;
-
 use serde_json::{json, Map, Value};
 
+use super::DiagnosisReport;
 use crate::diagnosis::{sig, Diagnosis, Finding, FitQuality};
 use crate::fsio::write_atomic;
-use crate::testdata::MeasuredFrfs;
 
 fn num(x: f64) -> Value {
     if x.is_finite() {
@@ -219,23 +217,6 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
     s
 }
 
-/// Write the files of a diagnosis of `deck` (the analyst's deck, as given)
-/// against `test` into `dir`: `diagnosis.json`, `diagnosed.deck`, `report.md`,
-/// `report.html`, `localisation.svg`, `frf-overlay.svg` and
-/// `frf/NN-CHANNEL.svg`. Everything is rendered before the first write, and
-/// each file is written atomically; per-channel charts of an earlier run that
-/// this run does not write are removed.
-pub fn write_outputs(
-    d: &Diagnosis,
-    deck: &Deck,
-    test: &MeasuredFrfs,
-    dir: &Path,
-    deck_name: &str,
-    test_name: &str,
-) -> std::io::Result<()> {
-    write_outputs_with_notes(d, deck, test, dir, deck_name, test_name, &[])
-}
-
 /// The readers' notes on the inputs, as a Warnings section of `report.md`
 /// and of the page (placed before its end).
 fn notes_sections(notes: &[String]) -> (String, String) {
@@ -254,24 +235,24 @@ fn notes_sections(notes: &[String]) -> (String, String) {
     (md, html)
 }
 
-/// [`write_outputs`], with what the readers noticed in the inputs (data
-/// skipped or doubtful) in `diagnosis.json` (`input_notes`), `report.md` and
-/// `report.html`.
-pub fn write_outputs_with_notes(
-    d: &Diagnosis,
-    deck: &Deck,
-    test: &MeasuredFrfs,
-    dir: &Path,
-    deck_name: &str,
-    test_name: &str,
-    notes: &[String],
-) -> std::io::Result<()> {
+/// Write the files of a diagnosis of `deck` (the analyst's deck, as given)
+/// against `test` into `dir`: `diagnosis.json`, `diagnosed.deck`, `report.md`,
+/// `report.html`, `localisation.svg`, `frf-overlay.svg` and
+/// `frf/NN-CHANNEL.svg`. Everything is rendered before the first write, and
+/// each file is written atomically; per-channel charts of an earlier run that
+/// this run does not write are removed.
+///
+/// The readers' notes on the inputs ([`DiagnosisReport::notes`]) go into
+/// `diagnosis.json` (`input_notes`), `report.md` and `report.html`.
+pub fn write_outputs(r: &DiagnosisReport, dir: &Path) -> std::io::Result<()> {
+    let d = r.diagnosis;
     let mut json = diagnosis_json(d);
     if let Some(o) = json.as_object_mut() {
-        o.insert("input_notes".into(), serde_json::json!(notes));
+        o.insert("input_notes".into(), serde_json::json!(r.notes));
     }
     let json = serde_json::to_string_pretty(&json).map_err(std::io::Error::other)?;
-    let (notes_md, notes_html) = notes_sections(notes);
+    let (notes_md, notes_html) = notes_sections(r.notes);
+
     let mut deck_text = String::from(
         "# written by frfup diagnose: the updated deck with the accepted extensions\n",
     );
@@ -281,11 +262,10 @@ pub fn write_outputs_with_notes(
         ("diagnosed.deck".into(), deck_text.into_bytes()),
         (
             "report.md".into(),
-            (report_md(d, deck_name, test_name) + &notes_md).into_bytes(),
+            (report_md(d, r.deck_name, r.test_name) + &notes_md).into_bytes(),
         ),
     ];
-    let mut rendered =
-        super::render_files(d, deck, test, deck_name, test_name).map_err(std::io::Error::other)?;
+    let mut rendered = super::render_files(r).map_err(std::io::Error::other)?;
     if let Some((_, page)) = rendered.iter_mut().find(|(n, _)| n == "report.html") {
         let text = String::from_utf8_lossy(page).into_owned();
         if let Some(at) = text.rfind("</body>") {

@@ -3,20 +3,17 @@
 //! deck `pairs.csv`, `mac.svg` and `mode-shapes.svg`.
 
 pub mod page;
-pub mod pairing;
 pub mod stabilisation;
 pub mod tables;
 pub mod uff;
 
 use std::path::Path;
 
-pub use pairing::{pair_with_deck, Pairing};
-
 use super::charts::{self, FrfChannel, FrfOverlay, MacChart, MacPanel, ResonanceMark};
 use super::viewer::{self, ViewerData};
 use super::ReportError;
 use crate::fsio::write_atomic;
-use crate::identification::Identification;
+use crate::identification::{Identification, Pairing};
 use crate::testdata::{dof_label, MeasuredFrfs};
 
 /// What the report is made of.

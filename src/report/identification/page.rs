@@ -85,7 +85,7 @@ fn pairs_table(s: &mut String, r: &IdentifyReport, charts: &Charts) {
         "<h2>Pairing with {}</h2>\n<p>{} measured DOFs in common; pairs by MAC ≥ {}, each mode used once.</p>\n<table><tr><th>test mode</th><th>test (Hz)</th><th>FE mode</th><th>FE (Hz)</th><th>FE − test (%)</th><th>MAC</th></tr>",
         esc(deck),
         p.common_dofs,
-        super::pairing::PAIR_MAC
+        crate::identification::PAIR_MAC
     );
     for &(t, f) in &p.pairs {
         let (ft, ff) = (r.id.modes[t].frequency_hz, p.fe_frequencies_hz[f]);

@@ -3,9 +3,8 @@
 
 use std::fmt::Write as _;
 
-use super::Pairing;
 use crate::fsio::csv_number;
-use crate::identification::Identification;
+use crate::identification::{Identification, Pairing};
 use crate::testdata::dof_label;
 
 /// `mode,frequency_hz,damping_ratio,complexity,mpc,mpd_deg,kind,stable_orders,significance`.

@@ -16,7 +16,6 @@
 //! * [`still`]: the still images;
 //! * [`page`]: the HTML section and its JSON.
 
-pub mod fe;
 pub mod interpolate;
 pub mod page;
 pub mod sources;
@@ -25,9 +24,8 @@ pub mod still;
 use frfup_parsers::deck::{Analysis, Deck};
 
 use crate::model::Dof;
-use crate::report::shapes;
+use crate::solvers::eigen::nodal::{self, FeShapes};
 
-pub use fe::{fe_shapes, FeShapes};
 pub use page::{section, viewer_json};
 pub use still::render as still_svg;
 
@@ -112,7 +110,7 @@ pub fn build(
         .collect();
     let freqs: Vec<f64> = pairs.iter().map(|p| p.test_hz).collect();
     let shapes_at: Vec<Vec<f64>> = pairs.iter().map(|p| p.test.clone()).collect();
-    let test = shapes::at_points("", "", &freqs, None, points, &shapes_at);
+    let test = nodal::at_points("", "", &freqs, None, points, &shapes_at);
     let mut measured = vec![[false; 3]; ids.len()];
     for (k, n) in test.nodes.iter().enumerate() {
         if let Some(i) = index(*n) {
@@ -201,22 +199,32 @@ pub fn update_section(
 
 /// The viewer section of a diagnosis' report and `mode-shapes.svg`: the
 /// test's modes identified as `frfup identify` does, paired with the
-/// diagnosed deck's modes; a note saying why when there is nothing to draw.
+/// modes of the diagnosed deck (`test_modes`, from
+/// [`crate::identification::identify_and_pair`]); a note saying why when
+/// there is nothing to draw.
 pub fn diagnosis_section(
-    d: &crate::diagnosis::Diagnosis,
-    test: &crate::testdata::MeasuredFrfs,
+    diagnosed_deck: &Deck,
+    test_modes: &Result<crate::identification::PairedModes, String>,
 ) -> (String, Option<String>) {
     let intro = format!(
         "The test's modes, identified from the FRFs as <code>frfup identify</code> does, paired by MAC ≥ {} with the diagnosed model's modes (the select lists each pair's MAC), animated.",
-        crate::report::identification::pairing::PAIR_MAC
+        crate::identification::PAIR_MAC
     );
     let intro = intro + " The test shape drawn is the real part of the identified one.";
-    match sources::identified(&d.diagnosed_deck, test) {
+    let viewer = test_modes.as_ref().map(|m| {
+        sources::from_identification(
+            diagnosed_deck,
+            &m.identification,
+            &m.pairing,
+            "diagnosed FE mode",
+        )
+    });
+    match viewer {
         Ok(v) => {
             let still = still_svg(&v);
             (section(&v, &intro, &still), Some(still))
         }
-        Err(e) => (page::unavailable(&e), None),
+        Err(e) => (page::unavailable(e), None),
     }
 }
 
@@ -247,7 +255,7 @@ mod tests {
             },
         )
         .unwrap();
-        let shapes = fe_shapes(&deck, &fe, &modes);
+        let shapes = nodal::fe_shapes(&deck, &fe, &modes);
         let points = [(3, Dof::Z), (5, Dof::Z)];
         let phi: Vec<f64> = [2, 4]
             .iter()

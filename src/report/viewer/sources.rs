@@ -1,15 +1,13 @@
-//! The viewer data of each report: the identified modes paired with a
-//! deck's (`identify --deck`, and `diagnose` with the diagnosed deck), and
-//! the test resonances paired with the updated model's modes (`update`).
+//! The viewer data of each report, arranged from what the algorithms
+//! computed: the identified modes paired with a deck's (`identify --deck`,
+//! and `diagnose` with the diagnosed deck), and the test resonances paired
+//! with the updated model's modes (`update`).
 
 use frfup_parsers::deck::Deck;
 
-use super::{build, fe_shapes, Partner, ViewerData};
-use crate::identification::{self, Identification, IdentifyOptions};
-use crate::model::{self, Dof};
-use crate::report::identification::{pair_with_deck, Pairing};
-use crate::solvers::eigen::{lowest_modes, EigenOptions};
-use crate::testdata::MeasuredFrfs;
+use super::{build, Partner, ViewerData};
+use crate::identification::{Identification, Pairing};
+use crate::model::Dof;
 use crate::updating::correlation::ShapeSource;
 use crate::updating::model_states::ModelStates;
 use crate::updating::UpdateResult;
@@ -60,10 +58,11 @@ pub fn from_update(
         .measured
         .as_ref()
         .ok_or("the test does not map onto the model")?;
-    if result.iterations.get(result.final_iteration).is_none() {
-        return Err("no returned iteration".into());
-    }
-    let fe = model::build(deck, &result.parameter_values()).map_err(|e| e.to_string())?;
+    let fe = match (&states.updated.nodal, &states.updated.error) {
+        (Some(fe), _) => fe,
+        (None, Some(e)) => return Err(e.clone()),
+        (None, None) => return Err("the updated model's modes were not computed".into()),
+    };
     let partners: Vec<Partner> = states
         .last_pairs
         .iter()
@@ -78,42 +77,15 @@ pub fn from_update(
             })
         })
         .collect();
-    // As many modes as the report's model view computed, so the pairs'
-    // FE mode numbers point at the same modes.
-    let count = states
-        .updated
-        .modes_hz
-        .len()
-        .max(partners.iter().map(|p| p.fe_mode + 1).max().unwrap_or(1))
-        .min(fe.dofs.len());
-    let modes = lowest_modes(
-        &fe.stiffness,
-        &fe.mass,
-        &EigenOptions {
-            count,
-            expect_no_rigid_body_modes: fe.has_fixed_dofs,
-            ..EigenOptions::default()
-        },
-    )
-    .map_err(|e| e.to_string())?;
     let test_kind = match result.pairing_shapes.source {
         ShapeSource::Fitted => "test mode (fitted)",
         _ => "test deflection shape at the peak",
     };
     Ok(build(
         deck,
-        &fe_shapes(deck, &fe, &modes),
+        fe,
         &meas.points,
         &partners,
         (test_kind, "updated FE mode"),
     ))
-}
-
-/// The test's modes identified as `frfup identify` does (whole band,
-/// default orders), paired with the modes of `deck`.
-pub fn identified(deck: &Deck, test: &MeasuredFrfs) -> Result<ViewerData, String> {
-    let id =
-        identification::identify(test, &IdentifyOptions::default()).map_err(|e| e.to_string())?;
-    let p = pair_with_deck(deck, &id)?;
-    Ok(from_identification(deck, &id, &p, "diagnosed FE mode"))
 }

@@ -1,11 +1,13 @@
-//! Test modes paired with a deck's FE modes by MAC at the measured DOFs.
+//! Identified test modes paired with a deck's FE modes by MAC at the
+//! measured DOFs, and the FE modes at every node for the reports' viewer.
 
 use frfup_parsers::deck::Deck;
 
-use crate::identification::Identification;
+use crate::identification::{identify, Identification, IdentifyOptions};
 use crate::model::{self, Dof, ParameterValues};
-use crate::report::viewer::fe::{self, FeShapes};
+use crate::solvers::eigen::nodal::{self, FeShapes};
 use crate::solvers::eigen::{lowest_modes, EigenOptions};
+use crate::testdata::MeasuredFrfs;
 
 /// Least MAC of a pair.
 pub const PAIR_MAC: f64 = 0.5;
@@ -112,6 +114,25 @@ pub fn pair_with_deck(deck: &Deck, id: &Identification) -> Result<Pairing, Strin
         pairs,
         common_dofs: used.len(),
         measured,
-        fe_shapes: fe::fe_shapes(deck, &fe, &modes),
+        fe_shapes: nodal::fe_shapes(deck, &fe, &modes),
+    })
+}
+
+/// A test's modes and their pairing with a deck's.
+#[derive(Clone, Debug)]
+pub struct PairedModes {
+    pub identification: Identification,
+    pub pairing: Pairing,
+}
+
+/// The modes of `test` identified as `frfup identify` does (whole band,
+/// default orders), paired with the modes of `deck`; why not, when either
+/// step fails.
+pub fn identify_and_pair(deck: &Deck, test: &MeasuredFrfs) -> Result<PairedModes, String> {
+    let identification = identify(test, &IdentifyOptions::default()).map_err(|e| e.to_string())?;
+    let pairing = pair_with_deck(deck, &identification)?;
+    Ok(PairedModes {
+        identification,
+        pairing,
     })
 }
