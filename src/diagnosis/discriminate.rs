@@ -162,7 +162,7 @@ fn probe_data(fa: &FeModel, fb: &FeModel, data: &TestData) -> Option<TestData> {
 
 /// |20 log₁₀ |a|/|b||, averaged over [`SMOOTH_LINES`] lines; 0 where either
 /// prediction is under `floor` or not finite.
-fn smoothed_db(a: &[faer::c64], b: &[faer::c64], floor: f64) -> Vec<f64> {
+pub fn smoothed_db(a: &[faer::c64], b: &[faer::c64], floor: f64) -> Vec<f64> {
     let raw: Vec<f64> = a
         .iter()
         .zip(b)
@@ -185,7 +185,7 @@ fn smoothed_db(a: &[faer::c64], b: &[faer::c64], floor: f64) -> Vec<f64> {
 }
 
 /// The run of lines around `peak` where `d` stays at or above half of `v`.
-fn half_band(d: &[f64], peak: usize, v: f64) -> (usize, usize) {
+pub fn half_band(d: &[f64], peak: usize, v: f64) -> (usize, usize) {
     let (mut lo, mut hi) = (peak, peak);
     while lo > 0 && d[lo - 1] >= 0.5 * v {
         lo -= 1;
@@ -194,22 +194,4 @@ fn half_band(d: &[f64], peak: usize, v: f64) -> (usize, usize) {
         hi += 1;
     }
     (lo, hi)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_band_is_where_the_difference_stays_above_half() {
-        let d = [0.0, 1.0, 3.0, 6.0, 4.0, 2.9, 3.5];
-        assert_eq!(half_band(&d, 3, 6.0), (2, 4));
-        let a = vec![faer::c64::new(10.0, 0.0); 9];
-        let b = vec![faer::c64::new(1.0, 0.0); 9];
-        // 20 dB everywhere above the floor; nothing under it.
-        assert!(smoothed_db(&a, &b, 0.5)
-            .iter()
-            .all(|v| (v - 20.0).abs() < 1e-12));
-        assert!(smoothed_db(&a, &b, 2.0).iter().all(|v| *v == 0.0));
-    }
 }

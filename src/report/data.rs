@@ -312,7 +312,7 @@ fn frf_overlay(
 /// FE modes shown as MAC columns: those within [0.5 f_first, 1.15 f_last] of
 /// the measured band (at most 40, nearest the band's centre kept), plus every
 /// paired mode.
-fn mac_columns(modes_hz: &[f64], lines_hz: &[f64], paired: &[usize]) -> Vec<usize> {
+pub fn mac_columns(modes_hz: &[f64], lines_hz: &[f64], paired: &[usize]) -> Vec<usize> {
     let positive: Vec<f64> = lines_hz
         .iter()
         .copied()
@@ -428,18 +428,4 @@ pub(crate) fn resonance_marks(
             label: format!("R{}", i + 1),
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn mac_columns_keep_band_and_pairs() {
-        let hz: Vec<f64> = (0..100).map(|i| i as f64).collect();
-        let lines = [0.0, 10.0, 20.0];
-        let c = mac_columns(&hz, &lines, &[50]);
-        assert_eq!(c.first(), Some(&5));
-        assert!(c.contains(&23) && !c.contains(&24) && c.contains(&50));
-    }
 }

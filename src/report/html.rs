@@ -46,7 +46,9 @@ fn fx(v: f64, d: usize) -> String {
     super::charts::fmt_fixed(v, d)
 }
 
-fn signed(v: f64, d: usize) -> String {
+/// `v` with `d` decimals and its sign always shown (`+0.12`, `−0.12`), no
+/// sign on a value that rounds to zero.
+pub fn signed(v: f64, d: usize) -> String {
     if v.is_finite() {
         let s = format!("{v:+.d$}");
         if s.trim_start_matches(['+', '-'])
@@ -747,19 +749,5 @@ fn warnings(s: &mut String, result: &UpdateResult, data: &ReportData, input_note
             let _ = writeln!(s, "<li>{}</li>", esc(n));
         }
         s.push_str("</ul>\n");
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn escaping_and_numbers() {
-        assert_eq!(esc("<a & \"b\">"), "&lt;a &amp; &quot;b&quot;&gt;");
-        assert_eq!(signed(-0.00001, 3), "0.000");
-        assert_eq!(signed(-1.5, 1), "−1.5");
-        assert_eq!(signed(1.5, 1), "+1.5");
-        assert_eq!(signed(f64::NAN, 1), "–");
     }
 }

@@ -20,17 +20,20 @@ pub enum Run {
 pub struct Prose(pub Vec<Run>);
 
 impl Prose {
-    fn text(mut self, s: impl Into<String>) -> Self {
+    /// Plain text.
+    pub fn text(mut self, s: impl Into<String>) -> Self {
         self.0.push(Run::Text(s.into()));
         self
     }
 
-    fn strong(mut self, s: impl Into<String>) -> Self {
+    /// Emphasised text (bold).
+    pub fn strong(mut self, s: impl Into<String>) -> Self {
         self.0.push(Run::Strong(s.into()));
         self
     }
 
-    fn code(mut self, s: impl Into<String>) -> Self {
+    /// A name the user types (code style).
+    pub fn code(mut self, s: impl Into<String>) -> Self {
         self.0.push(Run::Code(s.into()));
         self
     }
@@ -159,22 +162,5 @@ pub fn pairing_mac_header(result: &UpdateResult) -> &'static str {
     match result.pairing_shapes.source {
         ShapeSource::Fitted => "MAC (fitted shapes)",
         ShapeSource::OperatingDeflection => "MAC (ODS)",
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn one_sentence_three_formats() {
-        let p = Prose::default()
-            .text("a < b ")
-            .strong("bold")
-            .text(" and ")
-            .code("x=1");
-        assert_eq!(p.markdown(), "a < b **bold** and `x=1`");
-        assert_eq!(p.html(), "a &lt; b <b>bold</b> and <code>x=1</code>");
-        assert_eq!(p.plain(), "a < b bold and x=1");
     }
 }

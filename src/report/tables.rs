@@ -25,11 +25,12 @@ fn num(v: f64, fmt: fn(f64) -> String) -> String {
 
 /// Seven significant digits by the CSV rule of [`crate::fsio::csv_number`]:
 /// plain decimal for 1e-4 ≤ |x| < 1e6, else `1.234568e-5`; zero is `0`.
-fn e6(v: f64) -> String {
+pub fn e6(v: f64) -> String {
     crate::fsio::csv_number_sig(v, 7)
 }
 
-fn f6(v: f64) -> String {
+/// Six decimals, fixed point (an empty field when not finite).
+pub fn f6(v: f64) -> String {
     num(v, |x| format!("{x:.6}"))
 }
 
@@ -196,24 +197,4 @@ pub fn frf_csv(data: &ReportData) -> String {
         }
     }
     csv_text(rows)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fields_and_numbers() {
-        assert_eq!(
-            csv_text([["a,b", "say \"x\"", ""], ["1", "2", "3"]]),
-            "\"a,b\",\"say \"\"x\"\"\",\n1,2,3\n"
-        );
-        assert_eq!(e6(f64::NAN), "");
-        assert_eq!(e6(-0.0), "0");
-        assert_eq!(e6(0.0), "0");
-        assert_eq!(e6(-1.5e-5), "-1.5e-5");
-        assert_eq!(e6(0.01979010), "0.0197901");
-        assert_eq!(f6(-0.0), "0.000000");
-        assert_eq!(f6(1.5), "1.500000");
-    }
 }

@@ -3,9 +3,9 @@
 //!
 //! Used by `updating`, `diagnosis` and the command line.
 
-pub(crate) mod bandwidth;
+pub mod bandwidth;
 pub mod dense;
 pub mod eigen;
 pub mod frf;
-pub(crate) mod nested_dissection;
-pub(crate) mod sparse_ops;
+pub mod nested_dissection;
+pub mod sparse_ops;

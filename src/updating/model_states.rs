@@ -191,7 +191,7 @@ pub fn damping_name(d: &Damping) -> String {
     }
 }
 
-fn median(mut v: Vec<f64>) -> Option<f64> {
+pub fn median(mut v: Vec<f64>) -> Option<f64> {
     v.retain(|x| x.is_finite());
     if v.is_empty() {
         return None;
@@ -388,19 +388,4 @@ fn modal_sum(
                 .collect()
         })
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn median_and_nearest() {
-        assert_eq!(median(vec![3.0, f64::NAN, 1.0, 2.0]), Some(2.0));
-        assert_eq!(median(vec![1.0, 2.0]), Some(1.5));
-        assert_eq!(median(vec![]), None);
-        assert_eq!(nearest(&[1.0, 2.0, 3.0], 2.0000001), Some(1));
-        assert_eq!(nearest(&[1.0, 2.0], 2.5), None);
-        assert_eq!(nearest(&[], 2.5), None);
-    }
 }

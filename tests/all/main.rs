@@ -9,6 +9,7 @@ mod cli_support;
 mod model_common;
 mod png_support;
 mod solvers_support;
+mod unit;
 
 mod cli_batch;
 mod cli_csv;

@@ -73,7 +73,7 @@ pub(crate) fn text_width(text: &str, px: f64) -> f64 {
 }
 
 /// `text` cut to at most `max_px` wide with an ellipsis.
-pub(crate) fn abbreviate(text: &str, px: f64, max_px: f64) -> String {
+pub fn abbreviate(text: &str, px: f64, max_px: f64) -> String {
     if text_width(text, px) <= max_px {
         return text.to_string();
     }
@@ -631,7 +631,7 @@ pub(crate) fn finite_range<'a>(values: impl IntoIterator<Item = &'a f64>) -> Opt
 }
 
 /// A "nice" step ≥ `raw` (1, 2, 2.5, 5 × 10^k).
-pub(crate) fn nice_step(raw: f64) -> f64 {
+pub fn nice_step(raw: f64) -> f64 {
     if !(raw > 0.0 && raw.is_finite()) {
         return 1.0;
     }
@@ -645,7 +645,7 @@ pub(crate) fn nice_step(raw: f64) -> f64 {
 }
 
 /// Axis range padded by `pad` (fraction) and snapped to nice steps; never empty.
-pub(crate) fn padded_range(lo: f64, hi: f64, pad: f64) -> (f64, f64) {
+pub fn padded_range(lo: f64, hi: f64, pad: f64) -> (f64, f64) {
     let (lo, hi) = if lo.is_finite() && hi.is_finite() {
         (lo.min(hi), lo.max(hi))
     } else {
@@ -664,7 +664,7 @@ pub(crate) fn padded_range(lo: f64, hi: f64, pad: f64) -> (f64, f64) {
 }
 
 /// Number of decimals that tell apart ticks `step` apart.
-pub(crate) fn decimals_for(step: f64) -> usize {
+pub fn decimals_for(step: f64) -> usize {
     if !(step > 0.0 && step.is_finite()) {
         return 2;
     }
@@ -673,7 +673,7 @@ pub(crate) fn decimals_for(step: f64) -> usize {
 }
 
 /// A stable number label: `decimals` fixed digits, no "-0".
-pub(crate) fn fmt_fixed(v: f64, decimals: usize) -> String {
+pub fn fmt_fixed(v: f64, decimals: usize) -> String {
     if !v.is_finite() {
         return "–".to_string();
     }
@@ -696,7 +696,7 @@ pub(crate) fn tick_label(range: (f64, f64), n: usize) -> impl Fn(&f64) -> String
 
 /// Ticks of a log axis over [lo, hi] (both > 0): 1, 2, 5 × 10ᵏ, or
 /// 1, 2, 3, 5, 7 × 10ᵏ when that gives fewer than four.
-pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Vec::new();
     }
@@ -716,7 +716,7 @@ pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
 }
 
 /// A log-axis tick label: "200", "5", "0.5", "0.02".
-pub(crate) fn log_tick_label(t: f64) -> String {
+pub fn log_tick_label(t: f64) -> String {
     if t >= 1.0 {
         format!("{}", t.round() as i64)
     } else {
@@ -726,7 +726,7 @@ pub(crate) fn log_tick_label(t: f64) -> String {
 }
 
 /// `10ⁿ` in superscript digits.
-pub(crate) fn pow10_label(exp: i32) -> String {
+pub fn pow10_label(exp: i32) -> String {
     const SUP: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
     let mut s = String::from("10");
     if exp < 0 {
@@ -740,7 +740,7 @@ pub(crate) fn pow10_label(exp: i32) -> String {
 
 /// Assign each label (centre x in px, width px) the lowest row where it does
 /// not overlap the labels already placed; returns the row of each label.
-pub(crate) fn stagger(labels: &[(f64, f64)], gap: f64, max_rows: usize) -> Vec<usize> {
+pub fn stagger(labels: &[(f64, f64)], gap: f64, max_rows: usize) -> Vec<usize> {
     let mut row_ends: Vec<f64> = Vec::new();
     let mut order: Vec<usize> = (0..labels.len()).collect();
     order.sort_by(|&a, &b| labels[a].0.total_cmp(&labels[b].0).then(a.cmp(&b)));
@@ -769,7 +769,7 @@ pub(crate) fn stagger(labels: &[(f64, f64)], gap: f64, max_rows: usize) -> Vec<u
 }
 
 /// Split a polyline into runs of finite points (NaN/∞ break the line).
-pub(crate) fn finite_runs(points: impl IntoIterator<Item = (f64, f64)>) -> Vec<Vec<(f64, f64)>> {
+pub fn finite_runs(points: impl IntoIterator<Item = (f64, f64)>) -> Vec<Vec<(f64, f64)>> {
     let mut runs: Vec<Vec<(f64, f64)>> = Vec::new();
     let mut cur = Vec::new();
     for (x, y) in points {
@@ -783,83 +783,4 @@ pub(crate) fn finite_runs(points: impl IntoIterator<Item = (f64, f64)>) -> Vec<V
         runs.push(cur);
     }
     runs
-}
-
-#[cfg(test)]
-pub(crate) mod test_util {
-    /// Loose well-formedness check: one `<svg` root, balanced tags.
-    pub fn assert_svg(s: &str) {
-        assert!(
-            s.starts_with("<svg"),
-            "not an SVG: {}",
-            &s[..s.len().min(80)]
-        );
-        assert!(s.trim_end().ends_with("</svg>"));
-        let mut depth = 0i64;
-        let bytes = s.as_bytes();
-        let mut i = 0;
-        while let Some(off) = s[i..].find('<') {
-            let start = i + off;
-            let end = start + s[start..].find('>').expect("unclosed tag");
-            let tag = &s[start..=end];
-            if tag.starts_with("</") {
-                depth -= 1;
-            } else if !tag.ends_with("/>") && !tag.starts_with("<?") && !tag.starts_with("<!") {
-                depth += 1;
-            }
-            assert!(depth >= 0, "unbalanced at {start}");
-            i = end + 1;
-            let _ = bytes;
-        }
-        assert_eq!(depth, 0, "unbalanced tags");
-        assert!(
-            !s.contains("NaN") && !s.contains("inf"),
-            "non-finite number in SVG"
-        );
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ticks_and_labels() {
-        assert_eq!(nice_step(0.13), 0.2);
-        assert_eq!(nice_step(7.0), 10.0);
-        assert_eq!(decimals_for(0.25), 1);
-        assert_eq!(decimals_for(0.2), 1);
-        assert_eq!(decimals_for(5.0), 0);
-        assert_eq!(fmt_fixed(-0.0001, 2), "0.00");
-        assert_eq!(fmt_fixed(f64::NAN, 2), "–");
-        assert_eq!(pow10_label(-6), "10⁻⁶");
-        assert_eq!(pow10_label(3), "10³");
-        assert_eq!(
-            log_ticks(2.0, 200.0),
-            vec![2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0]
-        );
-        assert_eq!(log_ticks(30.0, 80.0), vec![30.0, 50.0, 70.0]);
-        assert!(log_ticks(0.0, 1.0).is_empty());
-        assert_eq!(log_tick_label(0.05), "0.05");
-        assert_eq!(log_tick_label(200.0), "200");
-        let (a, b) = padded_range(0.0, 0.0, 0.05);
-        assert!(a < b);
-        let (a, b) = padded_range(f64::NAN, 1.0, 0.05);
-        assert!(a < b);
-    }
-
-    #[test]
-    fn stagger_separates_close_labels() {
-        let rows = stagger(&[(100.0, 30.0), (105.0, 30.0), (300.0, 30.0)], 2.0, 3);
-        assert_eq!(rows, vec![0, 1, 0]);
-        assert!(abbreviate("a very long parameter name", 12.0, 60.0).ends_with('…'));
-        assert_eq!(abbreviate("short", 12.0, 200.0), "short");
-    }
-
-    #[test]
-    fn runs_break_at_nan() {
-        let r = finite_runs(vec![(0.0, 1.0), (1.0, f64::NAN), (2.0, 3.0), (3.0, 4.0)]);
-        assert_eq!(r.len(), 2);
-        assert_eq!(r[1].len(), 2);
-    }
 }

@@ -181,20 +181,21 @@ fn shift_invert_in_order(
 }
 
 /// Lower envelope of K − σM (any σ) and of M, per block of [`BLOCK`] rows.
-struct Envelope {
-    n: usize,
+pub struct Envelope {
+    pub n: usize,
     /// First column of the envelope of block row I (the least first nonzero
     /// column of its rows in K or M).
-    first_col: Vec<usize>,
+    pub first_col: Vec<usize>,
     /// First nonzero row of M's block column I (by symmetry, the least first
     /// nonzero column of M's rows in block I).
-    mass_first_row: Vec<usize>,
+    pub mass_first_row: Vec<usize>,
     /// One past the last row whose envelope reaches block column I.
-    end_row: Vec<usize>,
+    pub end_row: Vec<usize>,
 }
 
 impl Envelope {
-    fn of(k: &SparseMatrix, m: &SparseMatrix) -> Self {
+    /// The envelope of the pencil (K, M), by blocks of rows.
+    pub fn of(k: &SparseMatrix, m: &SparseMatrix) -> Self {
         let n = k.nrows();
         let mut first = (0..n).collect::<Vec<_>>();
         let mut mass_first = first.clone();
@@ -250,7 +251,7 @@ fn lower_entries(a: &SparseMatrix, j: usize) -> impl Iterator<Item = (usize, f64
 
 /// K − σM = L Lᵀ inside the envelope (dense storage, zero outside it), or
 /// None if K − σM is not numerically positive definite.
-fn envelope_cholesky(
+pub fn envelope_cholesky(
     k: &SparseMatrix,
     m: &SparseMatrix,
     sigma: f64,
@@ -315,7 +316,7 @@ fn envelope_cholesky(
 }
 
 /// The symmetric C = L⁻¹ M L⁻ᵀ, both triangles.
-fn reduce(l: MatRef<'_, f64>, m: &SparseMatrix, envelope: &Envelope, par: Par) -> Mat<f64> {
+pub fn reduce(l: MatRef<'_, f64>, m: &SparseMatrix, envelope: &Envelope, par: Par) -> Mat<f64> {
     let n = l.nrows();
     let mut c = Mat::<f64>::zeros(n, n);
     for (b, r0, r1) in envelope.blocks() {
@@ -389,13 +390,13 @@ fn reduce(l: MatRef<'_, f64>, m: &SparseMatrix, envelope: &Envelope, par: Par) -
 /// [`tridiagonal::largest_pairs`] is used when at most 1/`SUBSET_BELOW` of the
 /// eigenpairs are wanted and n ≥ 32 (the updater's ~40 of a few hundred; a
 /// full decomposition for `modes` of all of them).
-const SUBSET_BELOW: usize = 4;
+pub const SUBSET_BELOW: usize = 4;
 
 /// The `count` largest eigenvalues of the symmetric C, largest first, their
 /// orthonormal eigenvectors (C's lower triangle is read and overwritten), and
 /// whether the subset path produced them: bisection and inverse iteration on
 /// the tridiagonal form when count · `subset_below` ≤ n and n ≥ 32 (0: never).
-pub(crate) fn largest_eigenpairs(
+pub fn largest_eigenpairs(
     mut c: Mat<f64>,
     count: usize,
     par: Par,
@@ -474,7 +475,7 @@ pub(crate) fn largest_eigenpairs(
 }
 
 /// y ← L⁻ᵀ y.
-fn back_substitute(l: MatRef<'_, f64>, envelope: &Envelope, y: MatMut<'_, f64>, par: Par) {
+pub fn back_substitute(l: MatRef<'_, f64>, envelope: &Envelope, y: MatMut<'_, f64>, par: Par) {
     let mut y = y;
     for (b, r0, r1) in envelope.blocks().rev() {
         let h = r1 - r0;
@@ -492,162 +493,5 @@ fn back_substitute(l: MatRef<'_, f64>, envelope: &Envelope, y: MatMut<'_, f64>, 
             );
         }
         solve_upper_triangular_in_place(l.submatrix(r0, r0, h, h).transpose(), yr, par);
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use faer::sparse::Triplet;
-
-    /// A symmetric positive definite pencil with a narrow band plus a few
-    /// long-range couplings, in K alone and in M alone, so that the envelope
-    /// varies from block to block and reaches across blocks.
-    fn irregular_pencil(n: usize) -> (SparseMatrix, SparseMatrix) {
-        let couple = |t: &mut Vec<Triplet<usize, usize, f64>>, i: usize, j: usize, v: f64| {
-            t.push(Triplet::new(i, j, v));
-            if i != j {
-                t.push(Triplet::new(j, i, v));
-            }
-        };
-        let (mut kt, mut mt) = (Vec::new(), Vec::new());
-        for i in 0..n {
-            couple(&mut kt, i, i, 10.0 + (i % 7) as f64);
-            couple(&mut mt, i, i, 2.0 + (i % 3) as f64 * 0.1);
-            if i >= 1 {
-                couple(&mut kt, i, i - 1, -1.0);
-                couple(&mut mt, i, i - 1, 0.3);
-            }
-            if i >= 2 {
-                couple(&mut kt, i, i - 2, -0.5);
-            }
-        }
-        for (i, j) in [(150, 3), (100, 70), (n - 1, 64)] {
-            couple(&mut kt, i, j, -0.7);
-        }
-        for (i, j) in [(140, 10), (129, 60)] {
-            couple(&mut mt, i, j, 0.2);
-        }
-        (
-            SparseMatrix::try_new_from_triplets(n, n, &kt).unwrap(),
-            SparseMatrix::try_new_from_triplets(n, n, &mt).unwrap(),
-        )
-    }
-
-    fn dense(a: &SparseMatrix) -> Mat<f64> {
-        let mut d = Mat::<f64>::zeros(a.nrows(), a.ncols());
-        for j in 0..a.ncols() {
-            for (&i, &v) in a
-                .symbolic()
-                .row_idx_of_col_raw(j)
-                .iter()
-                .zip(a.val_of_col(j))
-            {
-                d[(i, j)] += v;
-            }
-        }
-        d
-    }
-
-    fn max_abs_difference(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> f64 {
-        let mut worst = 0.0f64;
-        for j in 0..a.ncols() {
-            for i in 0..a.nrows() {
-                worst = worst.max((a[(i, j)] - b[(i, j)]).abs());
-            }
-        }
-        worst
-    }
-
-    #[test]
-    fn envelope_steps_match_full_triangular_solves() {
-        // 170 rows: three blocks, the last one partial.
-        let n = 170;
-        let (k, m) = irregular_pencil(n);
-        let sigma = -0.5;
-        let envelope = Envelope::of(&k, &m);
-        assert_eq!(envelope.first_col, [0, 62, 3]);
-        assert_eq!(envelope.mass_first_row, [0, 63, 10]);
-        assert_eq!(envelope.end_row, [151, 170, 170]);
-        let (kd, md) = (dense(&k), dense(&m));
-        let a = Mat::from_fn(n, n, |i, j| kd[(i, j)] - sigma * md[(i, j)]);
-
-        let l = envelope_cholesky(&k, &m, sigma, &envelope, Par::Seq).unwrap();
-        let llt = &l * l.transpose();
-        assert!(max_abs_difference(llt.as_ref(), a.as_ref()) < 1e-12 * 20.0);
-        assert!((0..n).all(|j| (0..j).all(|i| l[(i, j)] == 0.0)));
-
-        // C = L⁻¹ M L⁻ᵀ by two full triangular solves.
-        let c = reduce(l.as_ref(), &m, &envelope, Par::Seq);
-        let mut w = md.clone();
-        solve_lower_triangular_in_place(l.as_ref(), w.as_mut(), Par::Seq);
-        let mut expected = w.transpose().to_owned();
-        solve_lower_triangular_in_place(l.as_ref(), expected.as_mut(), Par::Seq);
-        assert!(max_abs_difference(c.as_ref(), expected.as_ref()) < 1e-14);
-
-        // φ = L⁻ᵀ y by a full triangular solve.
-        let y = Mat::from_fn(n, 5, |i, j| ((i * 7 + j * 3) % 11) as f64 - 5.0);
-        let mut phi = y.clone();
-        back_substitute(l.as_ref(), &envelope, phi.as_mut(), Par::Seq);
-        let mut expected = y;
-        solve_upper_triangular_in_place(l.transpose(), expected.as_mut(), Par::Seq);
-        assert!(max_abs_difference(phi.as_ref(), expected.as_ref()) < 1e-13);
-    }
-
-    #[test]
-    fn not_positive_definite_is_reported() {
-        let (k, m) = irregular_pencil(170);
-        let envelope = Envelope::of(&k, &m);
-        // σ far above the spectrum (ω² ≤ ~10): K − σM is indefinite.
-        assert!(envelope_cholesky(&k, &m, 1e3, &envelope, Par::Seq).is_none());
-    }
-
-    /// The subset path (a few of many eigenpairs of T) against the full
-    /// decomposition on the reduced C of a free-free chain (one rigid-body
-    /// mode, n = 200): the same vectors up to sign, to 1e-9 of their size (both are accurate
-    /// to ~ε‖T‖/gap, and the relative gaps here are above 1e-3).
-    #[test]
-    fn subset_of_eigenpairs_matches_full_decomposition() {
-        let n = 200;
-        let (mut kt, mut mt) = (Vec::new(), Vec::new());
-        for i in 0..n {
-            mt.push(Triplet::new(i, i, 1.0 + 0.3 * (i % 5) as f64));
-            if i + 1 < n {
-                let k = 1.0 + 0.1 * (i % 3) as f64;
-                kt.push(Triplet::new(i, i, k));
-                kt.push(Triplet::new(i + 1, i + 1, k));
-                kt.push(Triplet::new(i, i + 1, -k));
-                kt.push(Triplet::new(i + 1, i, -k));
-            }
-        }
-        let k = SparseMatrix::try_new_from_triplets(n, n, &kt).unwrap();
-        let m = SparseMatrix::try_new_from_triplets(n, n, &mt).unwrap();
-        let envelope = Envelope::of(&k, &m);
-        let l = envelope_cholesky(&k, &m, -1e-3, &envelope, Par::Seq).unwrap();
-        let c = reduce(l.as_ref(), &m, &envelope, Par::Seq);
-        let (mu_some, some, subset) =
-            largest_eigenpairs(c.clone(), 12, Par::Seq, SUBSET_BELOW).unwrap();
-        assert!(subset, "12 of 200: the subset path, and its checks passed");
-        let (mu_all, all, full) = largest_eigenpairs(c, 12, Par::Seq, 0).unwrap();
-        assert!(!full);
-        for (a, b) in mu_some.iter().zip(&mu_all) {
-            // Bisection to a few ulps of ‖C‖ against the QR algorithm.
-            assert!((a - b).abs() <= 1e-13 * mu_all[0], "μ {a:e} vs {b:e}");
-        }
-        for j in 0..12 {
-            let dot: f64 = some
-                .col(j)
-                .iter()
-                .zip(all.col(j).iter())
-                .map(|(a, b)| a * b)
-                .sum();
-            let size = all.col(j).iter().fold(0.0f64, |a, v| a.max(v.abs()));
-            let worst = some
-                .col(j)
-                .iter()
-                .zip(all.col(j).iter())
-                .fold(0.0f64, |a, (x, y)| a.max((x - dot.signum() * y).abs()));
-            assert!(worst <= 1e-9 * size, "mode {j}: {worst:e} of {size:e}");
-        }
     }
 }

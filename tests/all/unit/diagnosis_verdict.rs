@@ -1,0 +1,56 @@
+//! Unit tests of `src/diagnosis/verdict.rs` through its public interface.
+
+use frfup::diagnosis::discriminate::TellApart;
+use frfup::diagnosis::hypotheses::Physics;
+use frfup::diagnosis::verdict::*;
+use frfup::diagnosis::Finding;
+
+fn finding(alternatives: &[&str], tell_apart: Option<TellApart>) -> Finding {
+    Finding {
+        physics: Physics::AddedMass,
+        nodes: vec![6],
+        dofs: vec![],
+        parameters: Default::default(),
+        uncertainty: Default::default(),
+        validation_error_before: 40.0,
+        validation_error_after: 0.9,
+        label: "added-mass at node 6".into(),
+        indistinguishable_from: alternatives.iter().map(|s| s.to_string()).collect(),
+        tell_apart,
+    }
+}
+
+#[test]
+fn two_explanations_as_good_are_not_a_conclusion() {
+    let none = frfup::model::ParameterValues::new();
+    let alone = [finding(&[], None)];
+    assert_eq!(
+        Verdict::from_parts(&alone, true, 0.9, &none),
+        Verdict::Explained
+    );
+    let t = TellApart {
+        alternative: "added-mass at node 5".into(),
+        node: 6,
+        direction: 3,
+        dof: "6+z".into(),
+        band_hz: (225.9, 244.5),
+        difference_db: 12.5,
+    };
+    let both = [finding(&["added-mass at node 5 (m = 0.12 kg)"], Some(t))];
+    let v = Verdict::from_parts(&both, true, 0.9, &none);
+    assert!(!v.is_conclusive());
+    assert_eq!(v.status(), "cannot tell apart");
+    let s = v.sentence();
+    assert!(
+        s.contains("added-mass at node 6 and added-mass at node 5 explain the data equally well")
+            && s.contains("measure 6+z")
+            && s.contains("225.9–244.5 Hz")
+            && s.contains("12.5 dB"),
+        "{s}"
+    );
+    // Above the noise level the remaining error is the stronger statement.
+    assert!(matches!(
+        Verdict::from_parts(&both, false, 7.0, &none),
+        Verdict::PartlyExplained { .. }
+    ));
+}

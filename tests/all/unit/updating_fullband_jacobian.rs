@@ -1,0 +1,59 @@
+//! Unit tests of `src/updating/fullband/jacobian.rs` through its public interface.
+
+use crate::unit::updating_fullband_reduced::beam;
+use frfup::model;
+use frfup::updating::fullband::fit::{self, DampingForm, Mask};
+use frfup::updating::fullband::jacobian::*;
+use frfup::updating::fullband::reduced::ReducedModel;
+
+/// The analytic columns against central differences of the reduced
+/// model (away from its anchor, so the expansion is exercised), and the
+/// damping column.
+#[test]
+fn analytic_columns_match_central_differences() {
+    let (deck, data) = beam();
+    let names = model::parameter_names(&deck);
+    let mask = Mask::all(&data);
+    let form = DampingForm::Modal;
+    let red = ReducedModel::new(&deck, &names, &[0.0; 4], &data).unwrap();
+    let x0 = [0.03, -0.02, 0.05, 0.1, 0.02f64.ln()];
+    let r_at = |x: &[f64]| {
+        let modes = red.solve(&x[..4]).unwrap();
+        let pred = fit::predict(&modes.model, form.damping(&x[4..]), &data, &mask);
+        fit::residuals(&pred, &data, &mask)
+    };
+    let modes = red.solve(&x0[..4]).unwrap();
+    let pred = fit::predict(&modes.model, form.damping(&x0[4..]), &data, &mask);
+    let pt = Point {
+        model: &red,
+        modes: &modes,
+        form,
+        damping: &x0[4..],
+        pred: &pred,
+    };
+    let jac = columns(&pt, &data, &mask, &[true; 5]);
+    assert_eq!(jac.nrows(), r_at(&x0).len());
+    for j in 0..5 {
+        let h = 1e-4;
+        let (mut xp, mut xm) = (x0, x0);
+        xp[j] += h;
+        xm[j] -= h;
+        let fd: Vec<f64> = r_at(&xp)
+            .iter()
+            .zip(r_at(&xm))
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
+        let norm = fd.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let err = (0..fd.len())
+            .map(|i| (fd[i] - jac[(i, j)]).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        // Exact but for the high modes' series (damping neglected); the
+        // step is large enough to stay above the rounding of the lowest
+        // eigenvalues (≈ ε·λ_max of the reduced pencil).
+        assert!(
+            err <= 2e-3 * norm,
+            "unknown {j}: |analytic − fd| = {err:e} of {norm:e}"
+        );
+    }
+}

@@ -1,0 +1,91 @@
+//! Unit tests of `src/updating/fullband/reduced.rs` through its public interface.
+
+use faer::c64;
+use frfup::model;
+use frfup::model::Damping;
+use frfup::model::ParameterValues;
+use frfup::testdata::{Channel, FrfKind, MeasuredFrfs};
+use frfup::updating::fullband::data::TestData;
+use frfup::updating::fullband::fit;
+use frfup::updating::fullband::fit::{predict, Mask};
+use frfup::updating::fullband::reduced::*;
+use frfup_parsers::deck::parse;
+use frfup_parsers::deck::Deck;
+
+/// A free-free beam on soft springs, 4 channels (the Jacobian test's).
+pub fn beam() -> (Deck, TestData) {
+    let mut text =
+        String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
+    for i in 1..=9 {
+        text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
+    }
+    for i in 1..=8 {
+        text += &format!("beam {i} {i} {} st s\n", i + 1);
+    }
+    text += "mass 1 9 m=0.2\nspring 1 1 z k=500\nspring 2 9 z k=500\n";
+    text += "damping modal 0.02\nparam left E 1-4\nparam right Iy 5-8\nparam tip m 1\nparam sup k 1-2\n";
+    let deck = parse(&text).unwrap();
+    let fe = model::build(&deck, &ParameterValues::new()).unwrap();
+    let lines: Vec<f64> = (1..=300).map(|i| i as f64 * 2.0).collect();
+    let input = fe.measured_dof(9, 3).unwrap().0;
+    let omegas: Vec<f64> = lines
+        .iter()
+        .map(|f| 2.0 * std::f64::consts::PI * f)
+        .collect();
+    let nodes = [3u32, 5, 7, 9];
+    let outputs: Vec<usize> = nodes
+        .iter()
+        .map(|&n| fe.measured_dof(n, 3).unwrap().0)
+        .collect();
+    let h = frfup::solvers::frf::direct_receptance(
+        &fe.stiffness,
+        &fe.mass,
+        Damping::Modal { zeta: 0.02 },
+        &omegas,
+        input,
+        &outputs,
+    );
+    let channels = nodes
+        .iter()
+        .enumerate()
+        .map(|(o, &node)| Channel {
+            response_node: node as i64,
+            response_direction: 3,
+            reference_node: 9,
+            reference_direction: 3,
+            // Accelerance, 1 % off the model so that residuals are not zero.
+            values: (0..omegas.len())
+                .map(|l| h[(o, l)] * (-omegas[l] * omegas[l]) * c64::new(1.01, 0.005))
+                .collect(),
+        })
+        .collect();
+    let test = MeasuredFrfs {
+        frequencies_hz: lines,
+        kind: FrfKind::Accelerance,
+        channels,
+    };
+    (deck, TestData::new(&test).unwrap())
+}
+
+/// At its anchor the reduced model's FRFs are the full modal model's
+/// (modes plus R0 + ω²R1) to within a small part of the 1 % floor.
+#[test]
+fn reduced_frfs_match_the_modal_model_at_the_anchor() {
+    let (deck, data) = beam();
+    let names = model::parameter_names(&deck);
+    let p = [0.1, -0.05, 0.2, 0.0];
+    let red = ReducedModel::new(&deck, &names, &p, &data).unwrap();
+    let values: ParameterValues = names.iter().cloned().zip(p).collect();
+    let full = fit::modal_model(&model::updated_deck(&deck, &values), &data).unwrap();
+    let damping = Damping::Modal { zeta: 0.02 };
+    let mask = Mask::all(&data);
+    let a = predict(&red.solve(&p).unwrap().model, damping, &data, &mask);
+    let b = predict(&full, damping, &data, &mask);
+    let mut worst = 0.0f64;
+    for (ac, bc) in a.iter().zip(&b) {
+        for (x, y) in ac.iter().zip(bc) {
+            worst = worst.max(((x - y).norm() / y.norm()).min(1.0));
+        }
+    }
+    assert!(worst < 1e-3, "largest relative difference {worst:e}");
+}
