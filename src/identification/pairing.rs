@@ -1,8 +1,10 @@
 //! Identified test modes paired with a deck's FE modes by MAC at the
 //! measured DOFs, and the FE modes at every node for the reports' viewer.
 
+use faer::c64;
 use frfup_parsers::deck::Deck;
 
+use crate::identification::stabilisation::mac;
 use crate::identification::{identify, Identification, IdentifyOptions};
 use crate::model::{self, Dof, ParameterValues};
 use crate::solvers::eigen::nodal::{self, FeShapes};
@@ -27,21 +29,6 @@ pub struct Pairing {
     pub measured: Vec<(usize, (u32, Dof), f64)>,
     /// The FE modes at every node, for the mode-shape viewer.
     pub fe_shapes: FeShapes,
-}
-
-/// MAC of a complex test shape with a real FE shape.
-fn mac(psi: &[faer::c64], phi: &[f64]) -> f64 {
-    let mut dot = faer::c64::new(0.0, 0.0);
-    for (a, b) in psi.iter().zip(phi) {
-        dot += a.conj() * b;
-    }
-    let aa: f64 = psi.iter().map(|v| v.norm_sqr()).sum();
-    let bb: f64 = phi.iter().map(|v| v * v).sum();
-    if aa > 0.0 && bb > 0.0 {
-        dot.norm_sqr() / (aa * bb)
-    } else {
-        0.0
-    }
 }
 
 /// Solves the deck's lowest modes and pairs them with `id`'s modes.
@@ -77,16 +64,21 @@ pub fn pair_with_deck(deck: &Deck, id: &Identification) -> Result<Pairing, Strin
         },
     )
     .map_err(|e| e.to_string())?;
-    let fe_shapes: Vec<Vec<f64>> = modes
+    let fe_shapes: Vec<Vec<c64>> = modes
         .at(&rows)
         .into_iter()
-        .map(|v| v.iter().zip(&signs).map(|(x, s)| x * s).collect())
+        .map(|v| {
+            v.iter()
+                .zip(&signs)
+                .map(|(x, s)| c64::from(x * s))
+                .collect()
+        })
         .collect();
     let mac_m: Vec<Vec<f64>> = id
         .modes
         .iter()
         .map(|m| {
-            let psi: Vec<faer::c64> = used.iter().map(|&o| m.shape[o]).collect();
+            let psi: Vec<c64> = used.iter().map(|&o| m.shape[o]).collect();
             fe_shapes.iter().map(|phi| mac(&psi, phi)).collect()
         })
         .collect();

@@ -10,7 +10,7 @@
 //! parameters (fitted along), J₀ the noise-level value of a mean squared
 //! residual ([`fit::noise_level`]), s_j the prior standard deviation of p̄_j
 //! (`param … sd=S`; no term without it). Hard bounds min_j ≤ p̄_j ≤ max_j
-//! (`param … min= max=`; default [`DEFAULT_MIN`], [`DEFAULT_MAX`]).
+//! (`param … min= max=`; default [`super::prior::DEFAULT_MIN`], [`super::prior::DEFAULT_MAX`]).
 //! Minimised by bounded Levenberg–Marquardt with the exact Jacobian of a
 //! reduced model that follows the estimate ([`objective`]), from the best of
 //! the candidate starts, after a coarse stage on the resonance frequencies
@@ -40,7 +40,7 @@ use super::data::TestData;
 use super::fit::{self, DampingState, Mask};
 use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
 use super::objective::{minimise, Objective};
-pub use super::prior::{ParameterPrior, DEFAULT_MAX, DEFAULT_MIN};
+use super::prior::ParameterPrior;
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
 use crate::model::{self, Damping, ParameterValues};
