@@ -63,6 +63,13 @@ pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification
         .iter()
         .map(|n| format!("{}: {n}", cmd.test.display()))
         .collect();
+    if id.data.reciprocal {
+        notes.push(format!(
+            "roving-hammer test (one response DOF, {} references): fitted by reciprocity \
+             (H_ij = H_ji), the hit points as outputs and the response DOF as the reference",
+            id.data.n_outputs()
+        ));
+    }
     if !id.data.left_out.is_empty() {
         notes.push(format!(
             "{} FRF(s) left out: their reference does not have every response (the fit uses {})",

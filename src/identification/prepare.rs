@@ -4,7 +4,7 @@
 use faer::c64;
 
 use super::IdentifyError;
-use crate::testdata::MeasuredFrfs;
+use crate::testdata::{Channel, MeasuredFrfs};
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 
@@ -32,10 +32,15 @@ pub struct Prepared {
     pub channels: Vec<usize>,
     /// FRF (o, i) over the band, at `o * inputs.len() + i`.
     pub h: Vec<Vec<c64>>,
-    /// 1 / RMS of output o's FRFs over the band.
+    /// 1 / RMS of output o's FRFs over the band (of all FRFs when
+    /// `reciprocal`).
     pub weights: Vec<f64>,
     /// Test channels left out (a reference that not every output has).
     pub left_out: Vec<usize>,
+    /// A roving-hammer row fitted as a column by reciprocity (H_ij = H_ji):
+    /// the outputs are the test's references (hit points), the one input its
+    /// response DOF.
+    pub reciprocal: bool,
 }
 
 impl Prepared {
@@ -50,20 +55,50 @@ impl Prepared {
     }
 }
 
+/// The output and input DOFs of a channel: response and reference, or the
+/// other way round when `reciprocal` (H_ij = H_ji of a linear structure).
+fn roles(ch: &Channel, reciprocal: bool) -> (Dof, Dof) {
+    let response = Dof {
+        node: ch.response_node,
+        direction: ch.response_direction,
+    };
+    let reference = Dof {
+        node: ch.reference_node,
+        direction: ch.reference_direction,
+    };
+    if reciprocal {
+        (reference, response)
+    } else {
+        (response, reference)
+    }
+}
+
+/// A roving-hammer test: one response DOF and several references (a row of
+/// the FRF matrix). It is fitted as a column by reciprocity: the hit points
+/// become the outputs, one reference instead of many (the poly-reference
+/// fit's cost grows with the square of the references).
+fn is_row(test: &MeasuredFrfs) -> bool {
+    let mut responses: Vec<Dof> = Vec::new();
+    let mut references: Vec<Dof> = Vec::new();
+    for ch in &test.channels {
+        let (o, i) = roles(ch, false);
+        if !responses.contains(&o) {
+            responses.push(o);
+        }
+        if !references.contains(&i) {
+            references.push(i);
+        }
+    }
+    responses.len() == 1 && references.len() > 1
+}
+
 /// The references to fit together: all of them when every response is
 /// measured for each, else the one with most channels.
-fn chosen_inputs(test: &MeasuredFrfs) -> Vec<Dof> {
+fn chosen_inputs(test: &MeasuredFrfs, reciprocal: bool) -> Vec<Dof> {
     let mut inputs: Vec<Dof> = Vec::new();
     let mut outputs: Vec<Dof> = Vec::new();
     for ch in &test.channels {
-        let i = Dof {
-            node: ch.reference_node,
-            direction: ch.reference_direction,
-        };
-        let o = Dof {
-            node: ch.response_node,
-            direction: ch.response_direction,
-        };
+        let (o, i) = roles(ch, reciprocal);
         if !inputs.contains(&i) {
             inputs.push(i);
         }
@@ -77,7 +112,7 @@ fn chosen_inputs(test: &MeasuredFrfs) -> Vec<Dof> {
     let count = |d: &Dof| {
         test.channels
             .iter()
-            .filter(|c| c.reference_node == d.node && c.reference_direction == d.direction)
+            .filter(|c| roles(c, reciprocal).1 == *d)
             .count()
     };
     let best = inputs
@@ -114,24 +149,14 @@ pub fn prepare(
             lines.len()
         )));
     }
-    let inputs = chosen_inputs(test);
+    let reciprocal = is_row(test);
+    let inputs = chosen_inputs(test, reciprocal);
     let mut outputs: Vec<Dof> = Vec::new();
     let mut left_out = Vec::new();
     let mut by_dof: Vec<(Dof, Dof, usize)> = Vec::new();
     for (c, ch) in test.channels.iter().enumerate() {
-        let i = Dof {
-            node: ch.reference_node,
-            direction: ch.reference_direction,
-        };
-        if !inputs.contains(&i) {
-            left_out.push(c);
-            continue;
-        }
-        let o = Dof {
-            node: ch.response_node,
-            direction: ch.response_direction,
-        };
-        if by_dof.iter().any(|(oo, ii, _)| *oo == o && *ii == i) {
+        let (o, i) = roles(ch, reciprocal);
+        if !inputs.contains(&i) || by_dof.iter().any(|(oo, ii, _)| *oo == o && *ii == i) {
             left_out.push(c);
             continue;
         }
@@ -157,20 +182,7 @@ pub fn prepare(
         .iter()
         .map(|&c| test.channels[c].values[lo..=hi].to_vec())
         .collect();
-    let weights = (0..outputs.len())
-        .map(|o| {
-            let ss: f64 = h[o * m..(o + 1) * m]
-                .iter()
-                .flat_map(|v| v.iter().map(|x| x.norm_sqr()))
-                .sum();
-            let rms = (ss / (m * lines.len()) as f64).sqrt();
-            if rms > 0.0 && rms.is_finite() {
-                1.0 / rms
-            } else {
-                0.0
-            }
-        })
-        .collect::<Vec<f64>>();
+    let weights = output_weights(&h, m, reciprocal);
     if weights.iter().all(|&w| w == 0.0) {
         return Err(IdentifyError::NotEnoughData(
             "every FRF is zero in the band".into(),
@@ -188,7 +200,34 @@ pub fn prepare(
         h,
         weights,
         left_out,
+        reciprocal,
     })
+}
+
+/// 1 / RMS of each output's FRFs (`h` at o·m + i), so that every sensor's
+/// noise weighs alike; one common weight, 1 / RMS of all FRFs, for a
+/// reciprocal row: its FRFs all come from one sensor, with one noise level,
+/// and a hit point that only shows noise must not weigh like the others.
+fn output_weights(h: &[Vec<c64>], m: usize, reciprocal: bool) -> Vec<f64> {
+    let inverse_rms = |frfs: &[Vec<c64>]| {
+        let (ss, n) = frfs.iter().fold((0.0, 0usize), |(s, n), v| {
+            (s + v.iter().map(|x| x.norm_sqr()).sum::<f64>(), n + v.len())
+        });
+        let rms = (ss / n.max(1) as f64).sqrt();
+        if rms > 0.0 && rms.is_finite() {
+            1.0 / rms
+        } else {
+            0.0
+        }
+    };
+    let outputs = h.len() / m.max(1);
+    if reciprocal {
+        vec![inverse_rms(h); outputs]
+    } else {
+        (0..outputs)
+            .map(|o| inverse_rms(&h[o * m..(o + 1) * m]))
+            .collect()
+    }
 }
 
 /// The weighted sum of |H| over every FRF, per line: the mode indicator the

@@ -177,3 +177,52 @@ fn suspension_mode_is_rigid_body() {
         "{kinds:?}"
     );
 }
+
+/// The row of the FRF matrix a roving-hammer test gives (one sensor, the
+/// hammer moved over the points): the same FRFs as the column by
+/// reciprocity, with response and reference exchanged.
+fn as_row(column: &MeasuredFrfs) -> MeasuredFrfs {
+    let mut row = column.clone();
+    for ch in &mut row.channels {
+        std::mem::swap(&mut ch.response_node, &mut ch.reference_node);
+        std::mem::swap(&mut ch.response_direction, &mut ch.reference_direction);
+    }
+    row
+}
+
+#[test]
+fn roving_hammer_row_is_fitted_as_its_column() {
+    // Fitted by reciprocity, a row gives the column's modes (one weight for
+    // all FRFs instead of one per output: both within the identification's
+    // 0.05 % target of the truth), and a hit point whose FRF is noise only
+    // adds no mode (one sensor, one weight).
+    let t = three_modes();
+    let mut column = synthesise(&t, FrfKind::Accelerance, &lines(5.0, 60.0, 0.05));
+    add_noise(&mut column, 0.01, 7);
+    let row = as_row(&column);
+    let a = identify(&column, &IdentifyOptions::default()).unwrap();
+    let b = identify(&row, &IdentifyOptions::default()).unwrap();
+    assert!(b.data.reciprocal && !a.data.reciprocal);
+    assert_eq!(b.data.n_inputs(), 1);
+    assert_eq!(a.modes.len(), 3);
+    assert_eq!(a.modes.len(), b.modes.len());
+    for ((x, y), f) in a.modes.iter().zip(&b.modes).zip(&t.f_hz) {
+        assert!((x.frequency_hz / f - 1.0).abs() < 5e-4, "{x:?}");
+        assert!((y.frequency_hz / f - 1.0).abs() < 5e-4, "{y:?}");
+    }
+    let mut dead = row.clone();
+    let last = dead.channels.len() - 1;
+    let tiny = 1e-4
+        * dead.channels[0]
+            .values
+            .iter()
+            .map(|v| v.norm())
+            .fold(0.0, f64::max);
+    let mut rng = Rng::new(11);
+    for v in &mut dead.channels[last].values {
+        *v = c64::new(rng.uniform() - 0.5, rng.uniform() - 0.5) * tiny;
+    }
+    let d = identify(&dead, &IdentifyOptions::default()).unwrap();
+    let f: Vec<f64> = d.modes.iter().map(|m| m.frequency_hz).collect();
+    assert_eq!(f.len(), 3, "{f:?}");
+}
