@@ -17,7 +17,7 @@ use crate::solvers::dense::{product, thin_svd};
 
 use super::prepare::Prepared;
 use super::select::{Picked, SelectOptions};
-use super::{refine, IdentifyError};
+use super::{refine, split, IdentifyError};
 
 /// Upper and lower residual of one FRF (receptance terms).
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -231,8 +231,9 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     })
 }
 
-/// Fits the picked poles (refined first when `refine`), dropping every mode
-/// below `opts.min_significance` and refitting until none is.
+/// Fits the picked poles (refined first when `refine`, merged ones split),
+/// dropping every mode below `opts.min_significance` and refitting until
+/// none is.
 pub fn fit_modes(
     data: &Prepared,
     picked: &[Picked],
@@ -244,6 +245,11 @@ pub fn fit_modes(
     let mut clusters: Vec<Vec<usize>> = picked.iter().map(|p| p.cluster.clone()).collect();
     if refine_poles && !poles.is_empty() {
         poles = refine::refine(data, &poles)?;
+        // Poles split off a merged one stand in no order of the diagram.
+        let split = split::split_merged(data, &poles)?;
+        orders.resize(split.len(), 0);
+        clusters.resize(split.len(), Vec::new());
+        poles = split;
     }
     loop {
         let solved = fit_once(data, &poles)?;

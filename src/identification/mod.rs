@@ -32,7 +32,9 @@
 //!    selected poles fixed, plus upper and lower residuals per FRF; then the
 //!    poles refined by Gauss–Newton on the same residual (variable
 //!    projection), which removes the bias of the linearised LSCF fit under
-//!    noise; modes whose contribution does not stand out of the fit residual
+//!    noise; a pole that leaves a residual near it far above the noise is
+//!    tried as two ([`split`]: close modes that one reference shows as one
+//!    peak); modes whose contribution does not stand out of the fit residual
 //!    are dropped.
 //! 6. [`quality`]: modal phase collinearity (MPC), mean phase deviation
 //!    (MPD), complexity; [`classify`]: rigid-body/suspension modes (far below
@@ -51,6 +53,7 @@ pub mod prepare;
 pub mod quality;
 pub mod refine;
 pub mod select;
+pub mod split;
 pub mod stabilisation;
 
 use faer::c64;

@@ -28,7 +28,7 @@ const MAX_ITERATIONS: usize = 40;
 const WINDOW: f64 = 8.0;
 const MAX_LINES: usize = 1000;
 
-fn residual_vector(
+pub(super) fn residual_vector(
     data: &Prepared,
     poles: &[c64],
     lines: &[usize],
@@ -46,7 +46,7 @@ fn residual_vector(
     Ok(out)
 }
 
-fn cost(r: &[f64]) -> f64 {
+pub(super) fn cost(r: &[f64]) -> f64 {
     r.iter().map(|v| v * v).sum()
 }
 
@@ -72,7 +72,7 @@ fn groups(poles: &[c64], sigma: &[f64]) -> Vec<Vec<usize>> {
 
 /// One LM step loop on the poles `group` of `poles` (scaled by `sigma`),
 /// over `lines`; returns the refined poles.
-fn refine_group(
+pub(super) fn refine_group(
     data: &Prepared,
     poles: &[c64],
     group: &[usize],

@@ -30,6 +30,7 @@ mod diagnose_priors;
 mod diagnose_tell_apart;
 mod hostile_inputs;
 mod identification_closed_form;
+mod identification_records;
 mod layering;
 mod modal_predictor;
 mod model_closed_form;
