@@ -392,15 +392,21 @@ impl DampingForm {
         }
     }
     /// ∂D/∂x_k of the damping term D(λ, ω) of [`denominator`] with respect
-    /// to the log parameters `x`: modal D = 2ζ√λ·ω (∂/∂ln ζ = D), Rayleigh
-    /// D = ω(α + βλ) (ωα, ωβλ), hysteretic D = ηλ (ηλ).
-    pub fn term_derivatives(self, x: &[f64], lam: f64, w: f64) -> [f64; 2] {
+    /// to the log parameters x, given `e` = [`Self::exp_parameters`]`(x)`:
+    /// modal D = 2ζ√λ·ω (∂/∂ln ζ = D), Rayleigh D = ω(α + βλ) (ωα, ωβλ),
+    /// hysteretic D = ηλ (ηλ).
+    pub fn term_derivatives(self, e: [f64; 2], lam: f64, w: f64) -> [f64; 2] {
         let l = lam.max(0.0);
         match self {
-            DampingForm::Modal => [2.0 * x[0].exp() * l.sqrt() * w, 0.0],
-            DampingForm::Rayleigh => [w * x[0].exp(), w * x[1].exp() * lam],
-            DampingForm::Hysteretic => [x[0].exp() * l, 0.0],
+            DampingForm::Modal => [2.0 * e[0] * l.sqrt() * w, 0.0],
+            DampingForm::Rayleigh => [w * e[0], w * e[1] * lam],
+            DampingForm::Hysteretic => [e[0] * l, 0.0],
         }
+    }
+    /// The damping parameters e^x of the log parameters `x` (0 where there
+    /// is no second one), computed once for loops over lines and modes.
+    pub fn exp_parameters(x: &[f64]) -> [f64; 2] {
+        [x[0].exp(), x.get(1).map_or(0.0, |v| v.exp())]
     }
     /// Log parameters giving about ζ at the centre of the band ω_c (rad/s).
     pub fn start(self, zeta: f64, w_c: f64) -> Vec<f64> {

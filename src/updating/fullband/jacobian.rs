@@ -182,13 +182,14 @@ fn congruence(psi: MatRef<'_, f64>, s: MatRef<'_, f64>) -> Mat<f64> {
 fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> (Mat<f64>, Mat<f64>) {
     let lam = &pt.modes.model.omega2;
     let damping = pt.form.damping(pt.damping);
+    let e = DampingForm::exp_parameters(pt.damping);
     let mut qr = Mat::<f64>::zeros(lines.len(), lam.len());
     let mut qi = Mat::<f64>::zeros(lines.len(), lam.len());
     for (i, &l) in lines.iter().enumerate() {
         let w = data.omegas[l];
         for (r, &lr) in lam.iter().enumerate() {
             let inv = fit::denominator(lr, w, damping).0.inv();
-            let q = c64::new(0.0, -pt.form.term_derivatives(pt.damping, lr, w)[k]) * inv * inv;
+            let q = c64::new(0.0, -pt.form.term_derivatives(e, lr, w)[k]) * inv * inv;
             (qr[(i, r)], qi[(i, r)]) = (q.re, q.im);
         }
     }
