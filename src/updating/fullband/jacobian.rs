@@ -42,9 +42,17 @@ pub struct Point<'a> {
     pub pred: &'a [Vec<c64>],
 }
 
-/// ∂r/∂x over the data rows, x = [p̄ (deck order), damping logs]; columns
-/// of unknowns that are not `free` are zero.
-pub fn columns(pt: &Point, data: &TestData, mask: &Mask, free: &[bool]) -> Mat<f64> {
+/// ∂r/∂x over the data rows, x = [p̄ (deck order), damping logs], followed
+/// by `extra_rows` zero rows for the caller (the prior rows: one allocation
+/// of the whole Jacobian, which is tens of megabytes on long records);
+/// columns of unknowns that are not `free` are zero.
+pub fn columns(
+    pt: &Point,
+    data: &TestData,
+    mask: &Mask,
+    free: &[bool],
+    extra_rows: usize,
+) -> Mat<f64> {
     let np = pt.model.anchor.len();
     let lines: Vec<usize> = (0..data.omegas.len()).filter(|&l| mask.lines[l]).collect();
     let params: Vec<usize> = (0..np).filter(|&j| free[j]).collect();
@@ -53,7 +61,7 @@ pub fn columns(pt: &Point, data: &TestData, mask: &Mask, free: &[bool]) -> Mat<f
     let (kernel, split) = kernels(pt, data, &lines);
     let coef = parameter_coefficients(pt, &params, split);
     let dh = complex_product(kernel.0.as_ref(), kernel.1.as_ref(), coef.as_ref());
-    let mut jac = Mat::<f64>::zeros(data_rows(data, mask), free.len());
+    let mut jac = Mat::<f64>::zeros(data_rows(data, mask) + extra_rows, free.len());
     fill(&mut jac, &dh, data, mask, &lines, pt.pred, |c, k| {
         (k < params.len()).then(|| (c * params.len() + k, params[k]))
     });

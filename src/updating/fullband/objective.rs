@@ -112,13 +112,12 @@ impl LeastSquares for Objective<'_> {
             damping: &x[np..],
             pred: &self.last.as_ref()?.1,
         };
-        let data_jac = jacobian::columns(&pt, self.data, &self.mask, free);
-        let data_n = data_jac.nrows();
-        if self.data_rows(r.len()) != data_n {
+        let prior_rows = ParameterPrior::rows(&self.priors);
+        let mut jac = jacobian::columns(&pt, self.data, &self.mask, free, prior_rows);
+        let data_n = jac.nrows() - prior_rows;
+        if self.data_rows(r.len()) != data_n || jac.ncols() != x.len() {
             return None;
         }
-        let mut jac = Mat::<f64>::zeros(r.len(), x.len());
-        jac.as_mut().subrows_mut(0, data_n).copy_from(&data_jac);
         ParameterPrior::fill_rows(&self.priors, self.prior_scale, &mut jac, data_n);
         Some(jac)
     }

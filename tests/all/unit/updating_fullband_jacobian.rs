@@ -31,7 +31,7 @@ fn analytic_columns_match_central_differences() {
         damping: &x0[4..],
         pred: &pred,
     };
-    let jac = columns(&pt, &data, &mask, &[true; 5]);
+    let jac = columns(&pt, &data, &mask, &[true; 5], 0);
     assert_eq!(jac.nrows(), r_at(&x0).len());
     for j in 0..5 {
         let h = 1e-4;
