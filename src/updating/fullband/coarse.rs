@@ -1,5 +1,8 @@
 //! The coarse stage of the full-band estimate: when the model's resonances
-//! are on average more than [`COARSE_THRESHOLD`] from the test's, fit p̄ to
+//! are on average more than [`COARSE_THRESHOLD`] from the test's (over the
+//! test resonances that pair with a model mode: one with no partner within
+//! the cap, e.g. a noise peak of a log-spaced axis at low frequency, says
+//! nothing about how far the model is), fit p̄ to
 //! the resonance frequencies alone ([`fit::frequency_residuals`], smooth
 //! where the FRF misfit is flat or rough), with the priors, then refit the
 //! damping; kept only if the full-band cost falls.
@@ -109,9 +112,18 @@ fn run(problem: &mut Frequencies, p: &mut Vec<f64>, damp: &mut DampingState) -> 
     let Some((_, _, sol)) = problem.solution(p) else {
         return false;
     };
-    let fr = fit::frequency_residuals(&sol.model, data);
-    let mean = fr.iter().map(|x| x.abs()).sum::<f64>() / fr.len().max(1) as f64;
-    if fr.is_empty() || mean <= COARSE_THRESHOLD {
+    let aligned = fit::frequency_alignment(&sol.model, data);
+    let paired: Vec<f64> = aligned
+        .iter()
+        .filter(|(_, mode)| mode.is_some())
+        .map(|(r, _)| r.abs())
+        .collect();
+    let mean = if paired.is_empty() {
+        f64::INFINITY
+    } else {
+        paired.iter().sum::<f64>() / paired.len() as f64
+    };
+    if aligned.is_empty() || mean <= COARSE_THRESHOLD {
         return false;
     }
     let pred = fit::predict(&sol.model, damp.damping(), data, &mask);
