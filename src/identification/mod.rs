@@ -46,6 +46,7 @@
 //! the units of receptance × rad/s (m/N/s) whatever the FRF kind.
 
 pub mod classify;
+pub mod column;
 pub mod lscf;
 pub mod lsfd;
 pub mod pairing;
@@ -61,6 +62,7 @@ use faer::c64;
 use crate::testdata::MeasuredFrfs;
 
 pub use classify::ModeKind;
+pub use column::{identify_column, ColumnMode};
 pub use pairing::{identify_and_pair, pair_with_deck, PairedModes, Pairing, PAIR_MAC};
 pub use prepare::{Dof, Prepared};
 pub use quality::Quality;

@@ -1,5 +1,8 @@
 //! Modal identification of the test: natural frequencies, damping ratios and
-//! real mode shapes at the sensors, fitted to single-reference FRFs.
+//! real mode shapes at the sensors, fitted to single-reference FRFs. Used by
+//! the diagnosis's channel checks only; the update takes its resonances from
+//! [`crate::identification`] (the switch of the channel checks is measured
+//! in docs/benchmarks.md).
 //!
 //! Peak picking on a summed indicator (see [`super::frequencies`]) misses weak
 //! modes and merges close ones (the GARTEUR wing-torsion pair, 0.65 Hz apart

@@ -175,8 +175,9 @@ pub enum ResonanceMethod {
     #[value(name = "peaks")]
     #[serde(rename = "peaks")]
     PeakPicking,
-    /// Multi-channel pole–residue fit (`updating::identify`): finds weak
-    /// modes and separates close ones; shapes from the residues.
+    /// The test's modal identification (`crate::identification`, what
+    /// `frfup identify` runs): poles common to all channels, weak modes
+    /// found and close ones separated; shapes from the residues.
     #[value(name = "fit")]
     #[serde(rename = "fit")]
     ModalFit,

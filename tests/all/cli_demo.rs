@@ -26,15 +26,19 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     let before = its[0]["sfdac_mean"].as_f64().unwrap();
     let fin = report["final_iteration"].as_u64().unwrap() as usize;
     let after = its[fin]["sfdac_mean"].as_f64().unwrap();
-    // Issue target: mean SFDAC > 0.99. Measured 0.2992 -> 0.99911: the
-    // initial value is fixed by the deck and campaign (to 1e-3), the final
+    // Issue target: mean SFDAC > 0.99. Measured 0.2539 -> 0.99940: the
+    // initial value is fixed by the deck, the campaign and the identified
+    // resonances the updating frequencies sit around (to 1e-3), the final
     // one must keep at least half its closeness to 1.
-    assert!((before - 0.2992).abs() < 1e-3, "SFDAC before {before}");
+    assert!((before - 0.2539).abs() < 1e-3, "SFDAC before {before}");
     assert!(after > 0.998, "SFDAC after {after}");
 
     // Mean |df/f| over the first 10 elastic test modes (issue target
-    // 0.5 %): measured 0.0015 % (frequencies.csv prints 0.001 % steps);
-    // the 2.55 Hz suspension mode is not elastic (below 5 Hz).
+    // 0.5 %): measured 0.0141 % (frequencies.csv prints 0.001 % steps);
+    // the 2.55 Hz suspension mode is not elastic (below 5 Hz). Since the
+    // identification separates the 36.78/37.43 Hz pair, both of it (0.013,
+    // 0.024 %) and its 38.7 Hz neighbour (0.066 %) are among the ten; with
+    // the pair merged the ten gave 0.0015 %.
     let freqs = std::fs::read_to_string(out_dir.join("frequencies.csv")).unwrap();
     let mut devs = Vec::new();
     for line in freqs.lines().skip(1) {
@@ -48,7 +52,7 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
     }
     assert!(devs.len() >= 10, "{freqs}");
     let mean = devs[..10].iter().sum::<f64>() / 10.0;
-    assert!(mean < 0.005, "mean |df/f| {mean} % over {devs:?}");
+    assert!(mean < 0.02, "mean |df/f| {mean} % over {devs:?}");
 
     // Parameters within 1e-3 of the truth where identifiable: a 10 % change
     // moves one of the first 10 elastic modes by at least 0.1 % (see the

@@ -3,14 +3,16 @@
 //! frequencies (Eq. 42) with the measured FRFs h̄ there, the SEREP basis size
 //! N_md and the number of modes computed per iteration.
 
+use faer::c64;
+
 use super::TWO_PI;
+use crate::identification::{identify_column, ColumnMode};
 use crate::model::{FeModel, ModelError, ParameterValues};
 use crate::solvers::eigen::{lowest_modes, EigenOptions, Modes};
-use crate::testdata::MeasuredFrfs;
+use crate::testdata::{i_omega_power, FrfKind, MeasuredFrfs};
 use crate::updating::frequencies::{
     indicator, pick_peaks, PeakOptions, Resonance, UpdatingFrequencies,
 };
-use crate::updating::identify::{identify_modes, IdentifyOptions};
 use crate::updating::measured::MeasuredDofs;
 use crate::updating::serep::InverseMethod;
 use crate::updating::{
@@ -78,7 +80,7 @@ pub(super) fn prepare(
     let n_ex = meas.len();
     let found = match known {
         Some(k) => k.clone(),
-        None => measured_resonances(&meas, opts),
+        None => measured_resonances(&meas, test.kind, opts),
     };
     let (mut peaks, mut fitted_shapes) = (found.peaks.clone(), found.shapes.clone());
     let mut modes0 = None;
@@ -151,37 +153,55 @@ pub(super) fn prepare(
 }
 
 /// The measured resonances (Eq. 42's ω̄_r) and, from the modal fit, their
-/// mode shapes at the measured DOFs (`None`: peak picking's deflection shapes).
-fn measured_resonances(meas: &MeasuredDofs, opts: &UpdateOptions) -> MeasuredResonances {
+/// mode shapes at the measured DOFs (`None`: peak picking's deflection
+/// shapes). The fit is [`identify_column`] on the FRFs in the test's own
+/// `kind` (the identification that `frfup identify` runs).
+fn measured_resonances(
+    meas: &MeasuredDofs,
+    kind: FrfKind,
+    opts: &UpdateOptions,
+) -> MeasuredResonances {
     let ind = indicator(&meas.mobility);
-    let peak_options = PeakOptions {
-        min_prominence: opts.min_prominence,
+    let peaks = || MeasuredResonances {
+        peaks: pick_peaks(
+            &meas.lines_hz,
+            &ind,
+            &PeakOptions {
+                min_prominence: opts.min_prominence,
+            },
+        ),
+        shapes: None,
     };
-    match opts.resonance_method {
-        ResonanceMethod::PeakPicking => MeasuredResonances {
-            peaks: pick_peaks(&meas.lines_hz, &ind, &peak_options),
-            shapes: None,
+    if opts.resonance_method == ResonanceMethod::PeakPicking {
+        return peaks();
+    }
+    let frfs: Vec<Vec<c64>> = meas
+        .receptance
+        .iter()
+        .map(|h| {
+            h.iter()
+                .zip(&meas.lines_hz)
+                .map(|(v, f)| v * i_omega_power(TWO_PI * f, kind.order()))
+                .collect()
+        })
+        .collect();
+    match identify_column(&meas.lines_hz, kind, &frfs) {
+        // No pole fits (e.g. an undamped model's FRFs): the peaks.
+        Ok(modes) if !modes.is_empty() => MeasuredResonances {
+            peaks: modes.iter().map(resonance).collect(),
+            shapes: Some(modes.into_iter().map(|m| m.shape).collect()),
         },
-        ResonanceMethod::ModalFit => {
-            let modes = identify_modes(
-                &meas.lines_hz,
-                &meas.receptance,
-                &ind,
-                &IdentifyOptions::default(),
-            );
-            if modes.is_empty() {
-                // No pole fits (e.g. an undamped model's FRFs): the peaks.
-                MeasuredResonances {
-                    peaks: pick_peaks(&meas.lines_hz, &ind, &peak_options),
-                    shapes: None,
-                }
-            } else {
-                MeasuredResonances {
-                    peaks: modes.iter().map(|m| m.resonance()).collect(),
-                    shapes: Some(modes.into_iter().map(|m| m.shape).collect()),
-                }
-            }
-        }
+        _ => peaks(),
+    }
+}
+
+/// An identified mode as a resonance (prominence ← significance).
+fn resonance(m: &ColumnMode) -> Resonance {
+    Resonance {
+        frequency_hz: m.frequency_hz,
+        line: m.line,
+        damping_ratio: Some(m.damping_ratio),
+        prominence: m.significance,
     }
 }
 

@@ -6,6 +6,7 @@ mod batch_campaign;
 mod diagnosis_discriminate;
 mod diagnosis_verdict;
 mod fsio;
+mod identification_column;
 mod model;
 mod model_elements_beam;
 mod report_charts;
