@@ -73,39 +73,36 @@ fn roles(ch: &Channel, reciprocal: bool) -> (Dof, Dof) {
     }
 }
 
+/// The distinct output and input DOFs of `test`'s channels, in order of
+/// first appearance.
+fn distinct_dofs(test: &MeasuredFrfs, reciprocal: bool) -> (Vec<Dof>, Vec<Dof>) {
+    let mut outputs: Vec<Dof> = Vec::new();
+    let mut inputs: Vec<Dof> = Vec::new();
+    for ch in &test.channels {
+        let (o, i) = roles(ch, reciprocal);
+        if !outputs.contains(&o) {
+            outputs.push(o);
+        }
+        if !inputs.contains(&i) {
+            inputs.push(i);
+        }
+    }
+    (outputs, inputs)
+}
+
 /// A roving-hammer test: one response DOF and several references (a row of
 /// the FRF matrix). It is fitted as a column by reciprocity: the hit points
 /// become the outputs, one reference instead of many (the poly-reference
 /// fit's cost grows with the square of the references).
 fn is_row(test: &MeasuredFrfs) -> bool {
-    let mut responses: Vec<Dof> = Vec::new();
-    let mut references: Vec<Dof> = Vec::new();
-    for ch in &test.channels {
-        let (o, i) = roles(ch, false);
-        if !responses.contains(&o) {
-            responses.push(o);
-        }
-        if !references.contains(&i) {
-            references.push(i);
-        }
-    }
+    let (responses, references) = distinct_dofs(test, false);
     responses.len() == 1 && references.len() > 1
 }
 
 /// The references to fit together: all of them when every response is
 /// measured for each, else the one with most channels.
 fn chosen_inputs(test: &MeasuredFrfs, reciprocal: bool) -> Vec<Dof> {
-    let mut inputs: Vec<Dof> = Vec::new();
-    let mut outputs: Vec<Dof> = Vec::new();
-    for ch in &test.channels {
-        let (o, i) = roles(ch, reciprocal);
-        if !inputs.contains(&i) {
-            inputs.push(i);
-        }
-        if !outputs.contains(&o) {
-            outputs.push(o);
-        }
-    }
+    let (outputs, inputs) = distinct_dofs(test, reciprocal);
     if test.channels.len() == inputs.len() * outputs.len() || inputs.len() <= 1 {
         return inputs;
     }
