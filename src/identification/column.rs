@@ -1,14 +1,15 @@
 //! One column of the FRF matrix given as arrays: the entry point of the
-//! update and of the diagnosis's channel checks, which hold the test as
-//! FRFs per measured DOF for one excitation (a roving-hammer row already
-//! turned into a column by reciprocity).
+//! update, which holds the test as FRFs per measured DOF for one excitation
+//! (a roving-hammer row already turned into a column by reciprocity).
 
 use faer::c64;
 
 use super::{identify, Identification, IdentifyError, IdentifyOptions, Mode};
 use crate::testdata::{Channel, FrfKind, MeasuredFrfs};
 
-/// A test mode as the update and the diagnosis use it.
+/// A test mode at the DOFs of one column, as the update (from
+/// [`identify_column`]) and the diagnosis's channel checks (from the pole fit
+/// of `updating::identify`) use it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ColumnMode {
     /// Undamped natural frequency |λ|/2π (Hz).
@@ -19,9 +20,8 @@ pub struct ColumnMode {
     /// most nearly real), largest magnitude 1, arbitrary sign.
     pub shape: Vec<f64>,
     /// ±1: `shape` × this has the signs of the modal constants
-    /// Q_c = φ_c·φ_ref themselves. For a real mode the residue is
-    /// A_c = Q_c/(2iω_d), so Q_c ∝ −Im A_c; the sign is that of the
-    /// projection Σ_c shape_c·(−Im A_c).
+    /// Q_c = φ_c·φ_ref themselves (for a real mode the residue is
+    /// A_c = Q_c/(2iω_d), so Q_c ∝ −Im A_c).
     pub constant_sign: f64,
     /// Peak modal contribution ÷ RMS of the fit residual.
     pub significance: f64,
@@ -75,6 +75,7 @@ fn column_modes(id: &Identification, lines_hz: &[f64]) -> Vec<ColumnMode> {
         .collect()
 }
 
+/// The sign of the projection Σ_c shape_c·(−Im A_c).
 fn constant_sign(m: &Mode) -> f64 {
     let projection: f64 = m
         .shape

@@ -37,8 +37,8 @@ use faer::c64;
 
 use faer::Mat;
 
-use super::frequencies::Resonance;
 use super::fullband::lm::{lm, LeastSquares, LmSettings};
+use crate::identification::ColumnMode;
 
 const TWO_PI: f64 = 2.0 * std::f64::consts::PI;
 /// Indicator prominence of a candidate that starts a pole in its
@@ -66,37 +66,6 @@ impl Default for IdentifyOptions {
     }
 }
 
-/// One identified test mode.
-#[derive(Clone, Debug, PartialEq)]
-pub struct IdentifiedMode {
-    /// Undamped natural frequency |λ|/2π (Hz).
-    pub frequency_hz: f64,
-    /// Viscous damping ratio ζ = −Re λ / |λ|.
-    pub damping_ratio: f64,
-    /// Real mode shape at the channels, largest magnitude 1.
-    pub shape: Vec<f64>,
-    /// ±1: `shape` × this has the signs of the modal constants
-    /// Q_c = φ_c·φ_ref themselves (a residue a_c = Q_c / (2iω_d), so
-    /// Q_c ∝ −Im a_c); the driving point's constant is positive.
-    pub constant_sign: f64,
-    /// Peak modal contribution ÷ residual RMS of its band.
-    pub significance: f64,
-    /// The measured line nearest the natural frequency.
-    pub line: usize,
-}
-
-impl IdentifiedMode {
-    /// As a [`Resonance`] (prominence ← significance).
-    pub fn resonance(&self) -> Resonance {
-        Resonance {
-            frequency_hz: self.frequency_hz,
-            line: self.line,
-            damping_ratio: Some(self.damping_ratio),
-            prominence: self.significance,
-        }
-    }
-}
-
 /// Modes of single-reference FRFs: `receptance[c][line]` (m/N) on the
 /// ascending `lines_hz`; `indicator` per line (larger at resonances). Sorted
 /// by frequency.
@@ -105,7 +74,7 @@ pub fn identify_modes(
     receptance: &[Vec<c64>],
     indicator: &[f64],
     opts: &IdentifyOptions,
-) -> Vec<IdentifiedMode> {
+) -> Vec<ColumnMode> {
     let n = lines_hz.len();
     if n < 8 || receptance.is_empty() {
         return Vec::new();
@@ -137,7 +106,7 @@ pub fn identify_modes(
 
     let candidates = candidates(lines_hz, indicator, opts.candidate_prominence);
     let start = first_positive(lines_hz) + 1;
-    let mut modes: Vec<IdentifiedMode> = Vec::new();
+    let mut modes: Vec<ColumnMode> = Vec::new();
     let mut covered_hi = f64::NEG_INFINITY;
     for &(k, _) in &candidates {
         // The band: ±max(8 lines, 6 % of f) around the candidate; starting
@@ -173,7 +142,7 @@ pub fn identify_modes(
     }
     modes.sort_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
     // The same pole from two bands: keep the more significant.
-    let mut out: Vec<IdentifiedMode> = Vec::new();
+    let mut out: Vec<ColumnMode> = Vec::new();
     for m in modes {
         match out.last_mut() {
             Some(prev) if (m.frequency_hz - prev.frequency_hz).abs() < 0.5 * df => {
@@ -464,7 +433,7 @@ impl Band {
         best.1
     }
 
-    fn identify(&self, freqs: &[f64], opts: &IdentifyOptions, df: f64) -> Vec<IdentifiedMode> {
+    fn identify(&self, freqs: &[f64], opts: &IdentifyOptions, df: f64) -> Vec<ColumnMode> {
         let z0 = (0.01f64).ln();
         let mut poles: Vec<Pole> = freqs.iter().map(|f| (f.ln(), z0)).collect();
         let (mut poles_fit, mut s) = self.fit(poles.clone());
@@ -527,7 +496,7 @@ impl Band {
             if significance < opts.significance {
                 continue;
             }
-            out.push(IdentifiedMode {
+            out.push(ColumnMode {
                 frequency_hz: f,
                 damping_ratio: z,
                 shape: real_shape(&a),

@@ -6,6 +6,7 @@
 mod campaign_doc;
 mod campaign_support;
 mod cli_support;
+mod modal_synth;
 mod model_common;
 mod png_support;
 mod solvers_support;

@@ -161,11 +161,10 @@ fn measured_resonances(
     kind: FrfKind,
     opts: &UpdateOptions,
 ) -> MeasuredResonances {
-    let ind = indicator(&meas.mobility);
     let peaks = || MeasuredResonances {
         peaks: pick_peaks(
             &meas.lines_hz,
-            &ind,
+            &indicator(&meas.mobility),
             &PeakOptions {
                 min_prominence: opts.min_prominence,
             },
