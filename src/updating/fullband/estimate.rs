@@ -147,6 +147,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         cache: None,
         last: None,
         solutions: 0,
+        spare: None,
     };
     let (start, mut p, mut damp) = best_start(&mut obj, &req.starts, &damp0)?;
     let (coarse_stage, spent) =

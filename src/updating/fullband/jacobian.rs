@@ -44,14 +44,16 @@ pub struct Point<'a> {
 
 /// ∂r/∂x over the data rows, x = [p̄ (deck order), damping logs], followed
 /// by `extra_rows` zero rows for the caller (the prior rows: one allocation
-/// of the whole Jacobian, which is tens of megabytes on long records);
-/// columns of unknowns that are not `free` are zero.
+/// of the whole Jacobian, which is tens of megabytes on long records),
+/// written into `storage` when it has that shape; columns of unknowns that
+/// are not `free` are zero.
 pub fn columns(
     pt: &Point,
     data: &TestData,
     mask: &Mask,
     free: &[bool],
     extra_rows: usize,
+    storage: Option<Mat<f64>>,
 ) -> Mat<f64> {
     let np = pt.model.anchor.len();
     let lines: Vec<usize> = (0..data.omegas.len()).filter(|&l| mask.lines[l]).collect();
@@ -61,8 +63,16 @@ pub fn columns(
     let (kernel, split) = kernels(pt, data, &lines);
     let coef = parameter_coefficients(pt, &params, split);
     let dh = complex_product(kernel.0.as_ref(), kernel.1.as_ref(), coef.as_ref());
-    let mut jac = Mat::<f64>::zeros(data_rows(data, mask) + extra_rows, free.len());
-    fill(&mut jac, &dh, data, mask, &lines, pt.pred, |c, k| {
+    let pairs = row_pairs(data, mask, &lines, pt.pred);
+    let shape = (data_rows(data, mask) + extra_rows, free.len());
+    let mut jac = match storage {
+        Some(mut m) if (m.nrows(), m.ncols()) == shape => {
+            m.fill(0.0);
+            m
+        }
+        _ => Mat::<f64>::zeros(shape.0, shape.1),
+    };
+    fill(&mut jac, &dh, &pairs, |c, k| {
         (k < params.len()).then(|| (c * params.len() + k, params[k]))
     });
     // Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) / d_r².
@@ -73,7 +83,7 @@ pub fn columns(
     for k in (0..nd).filter(|&k| free[np + k]) {
         let (qr, qi) = damping_kernel(pt, data, &lines, k);
         let dh = complex_product(qr.as_ref(), qi.as_ref(), a.as_ref());
-        fill(&mut jac, &dh, data, mask, &lines, pt.pred, |c, kk| {
+        fill(&mut jac, &dh, &pairs, |c, kk| {
             (kk == 0).then_some((c, np + k))
         });
     }
@@ -218,38 +228,71 @@ fn complex_product(
     (re, im)
 }
 
-/// Write w·Re, w·Im of (iω)^k ∂H / H into `jac`: `slot(c, k)` gives, for
-/// channel c, the column of `dh` and of `jac` for its k-th derivative.
-fn fill(
-    jac: &mut Mat<f64>,
-    dh: &(Mat<f64>, Mat<f64>),
+/// One pair of data rows (Re, Im) of the Jacobian: the index of its line
+/// among the used ones, its first row, the weight w and (iω)^k / H of the
+/// model there (`None`: the model or the ratio to the data is not finite or
+/// vanishes, and the rows stay zero).
+struct RowPair {
+    line: usize,
+    row: usize,
+    weight: f64,
+    factor: Option<c64>,
+}
+
+/// The row pairs of each channel (none for a channel left out by `mask`),
+/// in the row order of [`fit::residuals`].
+fn row_pairs(
     data: &TestData,
     mask: &Mask,
     lines: &[usize],
     pred: &[Vec<c64>],
-    slot: impl Fn(usize, usize) -> Option<(usize, usize)>,
-) {
+) -> Vec<Vec<RowPair>> {
     let mut row = 0;
+    let mut pairs: Vec<Vec<RowPair>> = (0..data.channels.len()).map(|_| Vec::new()).collect();
     for c in (0..data.channels.len()).filter(|&c| mask.channels[c]) {
         for (i, &l) in lines.iter().enumerate() {
-            let wgt = data.weight[c][l];
-            if wgt == 0.0 {
+            let weight = data.weight[c][l];
+            if weight == 0.0 {
                 continue;
             }
             let hm = pred[c][l];
             let ratio = hm / data.values[c][l];
-            if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
-                let w = data.omegas[l];
-                let factor = crate::testdata::i_omega_power(w, data.order) / hm;
-                let mut k = 0;
-                while let Some((src, dst)) = slot(c, k) {
-                    let d = c64::new(dh.0[(i, src)], dh.1[(i, src)]) * factor;
-                    jac[(row, dst)] = wgt * d.re;
-                    jac[(row + 1, dst)] = wgt * d.im;
-                    k += 1;
+            let factor = (ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0)
+                .then(|| crate::testdata::i_omega_power(data.omegas[l], data.order) / hm);
+            pairs[c].push(RowPair {
+                line: i,
+                row,
+                weight,
+                factor,
+            });
+            row += 2;
+        }
+    }
+    pairs
+}
+
+/// Write w·Re, w·Im of (iω)^k ∂H / H into `jac`: `slot(c, k)` gives, for
+/// channel c, the column of `dh` and of `jac` for its k-th derivative. One
+/// column at a time, so that the writes are contiguous.
+fn fill(
+    jac: &mut Mat<f64>,
+    dh: &(Mat<f64>, Mat<f64>),
+    pairs: &[Vec<RowPair>],
+    slot: impl Fn(usize, usize) -> Option<(usize, usize)>,
+) {
+    for (c, pairs) in pairs.iter().enumerate() {
+        let mut k = 0;
+        while let Some((src, dst)) = slot(c, k) {
+            let (re, im) = (dh.0.col_as_slice(src), dh.1.col_as_slice(src));
+            let col = jac.col_as_slice_mut(dst);
+            for p in pairs {
+                if let Some(factor) = p.factor {
+                    let d = c64::new(re[p.line], im[p.line]) * factor;
+                    col[p.row] = p.weight * d.re;
+                    col[p.row + 1] = p.weight * d.im;
                 }
             }
-            row += 2;
+            k += 1;
         }
     }
 }

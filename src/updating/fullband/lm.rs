@@ -30,6 +30,10 @@ pub trait LeastSquares {
     /// The step to the point `accepted` was last called with is undone:
     /// return to the state at `x` (the point before it).
     fn rejected(&mut self, _x: &[f64]) {}
+    /// The Jacobian is no longer needed: a problem may keep its storage for
+    /// the next one (a long record's Jacobian is tens of megabytes, and
+    /// fresh pages cost more than filling them).
+    fn recycle(&mut self, _jac: Mat<f64>) {}
     /// Largest change of unknown `i` in one step (a trust region per unknown).
     fn max_step(&self, _i: usize) -> f64 {
         2.0
@@ -110,6 +114,7 @@ pub fn lm(
         }
         let jac = problem.jacobian(&x, &r, &free)?;
         let (jtj, jtr) = normal_equations(jac.as_ref(), &r, &idx);
+        problem.recycle(jac);
         let c0 = cost(&r);
         let mut accepted = None;
         for _ in 0..settings.tries {
@@ -166,13 +171,20 @@ pub fn lm(
 
 /// JᵀJ and Jᵀr over the columns `idx`.
 pub fn normal_equations(jac: MatRef<'_, f64>, r: &[f64], idx: &[usize]) -> (Mat<f64>, Vec<f64>) {
-    let sub = Mat::from_fn(jac.nrows(), idx.len(), |i, k| jac[(i, idx[k])]);
+    let every = idx.len() == jac.ncols() && idx.iter().enumerate().all(|(k, &i)| k == i);
+    let gathered;
+    let sub = if every {
+        jac
+    } else {
+        gathered = Mat::from_fn(jac.nrows(), idx.len(), |i, k| jac[(i, idx[k])]);
+        gathered.as_ref()
+    };
     let mut jtj = Mat::<f64>::zeros(idx.len(), idx.len());
     matmul(
         jtj.as_mut(),
         Accum::Replace,
         sub.transpose(),
-        sub.as_ref(),
+        sub,
         1.0,
         Par::Seq,
     );

@@ -46,6 +46,8 @@ pub struct Objective<'a> {
     pub last: Option<(Vec<f64>, Vec<Vec<c64>>)>,
     /// Full model solutions spent (one per anchor).
     pub solutions: usize,
+    /// The storage of the last Jacobian, for the next one.
+    pub spare: Option<Mat<f64>>,
 }
 
 impl Objective<'_> {
@@ -113,13 +115,18 @@ impl LeastSquares for Objective<'_> {
             pred: &self.last.as_ref()?.1,
         };
         let prior_rows = ParameterPrior::rows(&self.priors);
-        let mut jac = jacobian::columns(&pt, self.data, &self.mask, free, prior_rows);
+        let spare = self.spare.take();
+        let mut jac = jacobian::columns(&pt, self.data, &self.mask, free, prior_rows, spare);
         let data_n = jac.nrows() - prior_rows;
         if self.data_rows(r.len()) != data_n || jac.ncols() != x.len() {
             return None;
         }
         ParameterPrior::fill_rows(&self.priors, self.prior_scale, &mut jac, data_n);
         Some(jac)
+    }
+
+    fn recycle(&mut self, jac: Mat<f64>) {
+        self.spare = Some(jac);
     }
 
     fn accepted(&mut self, x: &[f64]) -> Option<Vec<f64>> {
