@@ -19,6 +19,7 @@ pub mod hypotheses;
 pub mod localise;
 pub mod refit;
 pub mod select;
+pub mod suspension_placement;
 pub mod verdict;
 
 mod final_damping;

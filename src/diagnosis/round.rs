@@ -1,6 +1,7 @@
 //! One greedy round: generate the candidate extensions of the current model
 //! ([`hypotheses`]), screen them by linear probes ([`localise`]), choose the
-//! best-scored of each class (and suspension springs by forward selection),
+//! best-scored of each class (and suspension springs by forward selection
+//! and by the test's suspension modes, [`suspension_placement`]),
 //! fit those in full, and cross-validate the most promising ([`select`]).
 
 use std::collections::BTreeMap;
@@ -12,7 +13,11 @@ use super::hypotheses::{self, Context, Hypothesis, Physics};
 use super::joint_screen::{self, frequency_seeded_with};
 use super::search::Search;
 use super::select::{Engine, FitRequest, HypFit, LogSearch};
-use super::{localise, refit, DiagnoseError};
+use super::{localise, refit, suspension_placement, DiagnoseError};
+
+/// Suspension spring sets placed by the test's suspension modes, fitted in
+/// full each round (see [`suspension_placement`]).
+const PLACED_SETS: usize = 3;
 use crate::model::{self, ParameterValues};
 
 /// What a round found.
@@ -73,8 +78,10 @@ pub(super) fn search_round(
     let screened = screen(engine, &cur);
     let localisation = node_localisation(&screened);
     let mut chosen = choose_by_score(&screened, search.opts.fitted_per_round);
+    let mut placed = Vec::new();
     if cur.ctx.free_free {
         choose_suspension_springs(engine, &cur, &screened, &mut chosen);
+        placed = placed_suspension(engine, &cur, &mut chosen);
     }
     // Shear deformation has no parameter: always fitted.
     chosen.extend(
@@ -89,7 +96,7 @@ pub(super) fn search_round(
             .fit(&FitRequest::damping(current, damp, &engine.all))
             .map_or(f64::INFINITY, |f| f.cost),
     );
-    refit_with_deck_parameters(engine, &cur, &mut fitted);
+    refit_with_deck_parameters(engine, &cur, &mut fitted, &placed);
     if !cur.large {
         let main = &screened.candidates[..screened.n_main];
         let joint = joint_screen::best_joint_fits(engine, cur.deck, cur.damp, main, 3);
@@ -338,6 +345,29 @@ fn choose_suspension_springs(
     }
 }
 
+/// The suspension spring sets whose rigid-body modes on springs match the
+/// test's suspension modes in frequency ratio and shape, added to `chosen`;
+/// their labels (they are refitted with the deck's parameters: the
+/// placement is evidence of its own, and a deck distorted by an update
+/// that lacked the springs fits them badly).
+fn placed_suspension(engine: &Engine, cur: &Current, chosen: &mut Vec<Hypothesis>) -> Vec<String> {
+    let first_hz = cur.ctx.first_elastic_omega / (2.0 * std::f64::consts::PI);
+    let test =
+        suspension_placement::test_suspension_modes(engine.data, engine.test_modes(), first_hz);
+    let placed = suspension_placement::placements(&cur.ctx, engine.data, &test, PLACED_SETS);
+    let mut labels = Vec::new();
+    for h in suspension_placement::hypotheses(&cur.ctx, &placed) {
+        if cur.used.contains(&h.label) {
+            continue;
+        }
+        labels.push(h.label.clone());
+        if !chosen.iter().any(|c| c.label == h.label) {
+            chosen.push(h);
+        }
+    }
+    labels
+}
+
 /// The two pairs of same-stiffness springs in direction `dof` among the
 /// nodes of `pool` that fit best (coarse grid, 3 damping iterations); pairs
 /// already accepted or chosen are left out.
@@ -412,7 +442,12 @@ fn fit_in_full(
 /// candidate without one (shear deformation), are fitted again with them
 /// free (decks with one to six parameters; on models over 200 DOFs the two
 /// best with a parameter), kept where the cost falls.
-fn refit_with_deck_parameters(engine: &Engine, cur: &Current, fitted: &mut [(Hypothesis, HypFit)]) {
+fn refit_with_deck_parameters(
+    engine: &Engine,
+    cur: &Current,
+    fitted: &mut [(Hypothesis, HypFit)],
+    always: &[String],
+) {
     let np = cur.deck.params.len();
     if !(1..=6).contains(&np) {
         return;
@@ -421,8 +456,8 @@ fn refit_with_deck_parameters(engine: &Engine, cur: &Current, fitted: &mut [(Hyp
     for (h, f) in fitted.iter_mut() {
         let g = if h.param.is_none() {
             joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
-        } else if with_param < if cur.large { 2 } else { 3 } {
-            with_param += 1;
+        } else if always.contains(&h.label) || with_param < if cur.large { 2 } else { 3 } {
+            with_param += usize::from(!always.contains(&h.label));
             let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
             frequency_seeded_with(engine, &problem, cur.damp, Some(f))
         } else {

@@ -133,6 +133,8 @@ pub struct Engine<'a> {
     pub evaluations: std::cell::Cell<usize>,
     /// Levenberg–Marquardt iterations of the damping profile (fewer while screening).
     pub damping_iterations: std::cell::Cell<usize>,
+    /// The test's modes by the identification, found when first asked for.
+    test_modes: std::cell::OnceCell<Vec<crate::identification::ColumnMode>>,
 }
 
 impl<'a> Engine<'a> {
@@ -143,7 +145,14 @@ impl<'a> Engine<'a> {
             all: Mask::all(data),
             evaluations: std::cell::Cell::new(0),
             damping_iterations: std::cell::Cell::new(10),
+            test_modes: std::cell::OnceCell::new(),
         }
+    }
+
+    /// The test's modes (identified once, on the first call).
+    pub fn test_modes(&self) -> &[crate::identification::ColumnMode] {
+        self.test_modes
+            .get_or_init(|| super::suspension_placement::identified_modes(self.data))
     }
 
     pub fn model(&self, deck: &Deck) -> Result<ModalModel, DiagnoseError> {

@@ -1,0 +1,326 @@
+//! Suspension springs placed by the test's suspension modes.
+//!
+//! A free-free structure on soft springs of stiffness k at the nodes S (one
+//! direction d) has, to first order in k, the rigid-body modes of the deck
+//! on those springs. With Φ_r the deck's mass-normalised rigid-body modes
+//! (n_r of them) and u_n = Φ_r(n, d) their row at node n, the suspension
+//! modes solve
+//!
+//!   k·G_S q = ω² q,   G_S = Σ_{n∈S} u_nᵀ u_n   (n_r × n_r),
+//!
+//! so their frequencies are √(k μ_i)/2π over the eigenvalues μ_i of G_S and
+//! their shapes at the channels are U q_i (U: the rows of Φ_r there). The
+//! frequency ratios and the shapes depend on the placement alone; k only
+//! scales. Every set of one or two nodes, and of three among the nodes of
+//! the best pairs, is scored against the suspension modes the
+//! identification finds in the test (the modes below [`SUSPENSION_BAND`] of
+//! the deck's first elastic frequency), k fitted in closed form
+//! (ln k = mean of ln(ω_t²/μ_i) over the paired modes). The best sets go to
+//! the full FRF fit of the round, which also sees the springs' small effect
+//! on the elastic modes: sets alike in their rigid-body effect (two nodes
+//! above one another under vertical springs) are told apart there, or not
+//! at all.
+
+use frfup_parsers::deck::{Deck, DeckDof};
+use nalgebra::{DMatrix, SymmetricEigen};
+
+use super::data::TestData;
+use super::hypotheses::{self, Context, Hypothesis};
+use crate::identification::ColumnMode;
+use crate::model::{self, Dof, ParameterValues};
+use crate::testdata::FrfKind;
+
+/// Test modes below this fraction of the deck's first elastic frequency are
+/// the suspension's.
+pub const SUSPENSION_BAND: f64 = 0.5;
+/// A frequency mismatch of this (natural log, ≈ 10 %) costs as much as a
+/// shape with no correlation (MAC 0): the deck's mass distribution, not yet
+/// updated, moves the frequency ratios by a few per cent.
+const LN_FREQUENCY_SCALE: f64 = 0.1;
+/// Each spring beyond the first costs this much: of two sets that explain
+/// the suspension modes alike, the smaller.
+const PER_SPRING: f64 = 1e-3;
+/// Nodes of the best pairs among which triples are tried.
+const TRIPLE_POOL: usize = 12;
+
+/// The test's suspension modes: frequency (Hz) and real shape at the
+/// channels.
+#[derive(Clone, Debug)]
+pub struct SuspensionModes {
+    pub frequency_hz: Vec<f64>,
+    pub shapes: Vec<Vec<f64>>,
+}
+
+/// The modes the identification finds in `data` below
+/// [`SUSPENSION_BAND`] × `first_elastic_hz` (none if it finds nothing).
+pub fn test_suspension_modes(
+    data: &TestData,
+    modes: &[ColumnMode],
+    first_elastic_hz: f64,
+) -> SuspensionModes {
+    let lo = data.lines_hz.first().copied().unwrap_or(0.0);
+    let keep: Vec<&ColumnMode> = modes
+        .iter()
+        .filter(|m| m.frequency_hz > lo && m.frequency_hz < SUSPENSION_BAND * first_elastic_hz)
+        .collect();
+    SuspensionModes {
+        frequency_hz: keep.iter().map(|m| m.frequency_hz).collect(),
+        shapes: keep.iter().map(|m| m.shape.clone()).collect(),
+    }
+}
+
+/// The test's modes by the identification of the update and `identify`.
+pub fn identified_modes(data: &TestData) -> Vec<ColumnMode> {
+    let kind = match data.order {
+        0 => FrfKind::Receptance,
+        1 => FrfKind::Mobility,
+        _ => FrfKind::Accelerance,
+    };
+    crate::identification::identify_column(&data.lines_hz, kind, &data.values).unwrap_or_default()
+}
+
+/// One placement: the nodes, the direction, k fitted to the frequencies
+/// (N/m) and its score (0: the suspension modes matched exactly).
+#[derive(Clone, Debug)]
+pub struct Placement {
+    pub nodes: Vec<u32>,
+    pub dof: DeckDof,
+    pub k: f64,
+    pub score: f64,
+}
+
+/// The rigid-body modes' row u_n at each node (node, u_n).
+type NodeRows = Vec<(u32, Vec<f64>)>;
+
+/// The rigid-body rows of the deck: per translational direction of the
+/// analysis, u_n for each beam node; and U at the channels.
+struct RigidRows {
+    /// (direction, [(node, u_n)]).
+    nodes: Vec<(DeckDof, NodeRows)>,
+    /// U: per channel, the rigid-body modes there (times the channel's sign).
+    channels: Vec<Vec<f64>>,
+}
+
+/// The best `count` placements of same-stiffness springs on `deck` (a
+/// free-free deck with no spring to ground) for the test's suspension
+/// modes, best first; none when the test shows none or the deck has no
+/// rigid-body modes.
+pub fn placements(
+    ctx: &Context,
+    data: &TestData,
+    test: &SuspensionModes,
+    count: usize,
+) -> Vec<Placement> {
+    if test.frequency_hz.is_empty() || !ctx.free_free {
+        return Vec::new();
+    }
+    let Some(rows) = rigid_rows(ctx.deck, data) else {
+        return Vec::new();
+    };
+    let mut all: Vec<Placement> = Vec::new();
+    for (dof, nodes) in &rows.nodes {
+        let mut found: Vec<Placement> = Vec::new();
+        for a in 0..nodes.len() {
+            found.extend(score(&rows, test, nodes, &[a], *dof));
+            for b in a + 1..nodes.len() {
+                found.extend(score(&rows, test, nodes, &[a, b], *dof));
+            }
+        }
+        found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
+        let pool = triple_pool(&found, nodes);
+        for (i, &a) in pool.iter().enumerate() {
+            for (j, &b) in pool.iter().enumerate().skip(i + 1) {
+                for &c in pool.iter().skip(j + 1) {
+                    found.extend(score(&rows, test, nodes, &[a, b, c], *dof));
+                }
+            }
+        }
+        all.extend(found);
+    }
+    all.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
+    all.truncate(count);
+    all
+}
+
+/// Indices (into `nodes`) of the nodes of the best pairs, at most
+/// [`TRIPLE_POOL`], ascending.
+fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)]) -> Vec<usize> {
+    let mut pool: Vec<usize> = Vec::new();
+    for p in found.iter().filter(|p| p.nodes.len() == 2) {
+        for n in &p.nodes {
+            if let Some(i) = nodes.iter().position(|(m, _)| m == n) {
+                if !pool.contains(&i) && pool.len() < TRIPLE_POOL {
+                    pool.push(i);
+                }
+            }
+        }
+        if pool.len() >= TRIPLE_POOL {
+            break;
+        }
+    }
+    pool.sort_unstable();
+    pool
+}
+
+/// The rigid-body modes of `deck` at its beam nodes and at the channels;
+/// `None` if it has none (fixed, or on springs already) or cannot be solved.
+fn rigid_rows(deck: &Deck, data: &TestData) -> Option<RigidRows> {
+    let fe = model::build(deck, &ParameterValues::new()).ok()?;
+    if fe.has_fixed_dofs {
+        return None;
+    }
+    let count = 8.min(fe.dofs.len());
+    let modes = crate::solvers::eigen::lowest_modes(
+        &fe.stiffness,
+        &fe.mass,
+        &crate::solvers::eigen::EigenOptions {
+            count,
+            ..Default::default()
+        },
+    )
+    .ok()?;
+    let top = modes.omega2.iter().fold(0.0f64, |a, w| a.max(w.abs()));
+    let rigid: Vec<usize> = (0..modes.omega2.len())
+        .filter(|&r| modes.omega2[r].abs() <= 1e-6 * top)
+        .collect();
+    if rigid.is_empty() || rigid.len() == modes.omega2.len() {
+        return None;
+    }
+    let row = |eq: usize, sign: f64| -> Vec<f64> {
+        rigid
+            .iter()
+            .map(|&r| sign * modes.shapes[(eq, r)])
+            .collect()
+    };
+    let mut channels = Vec::with_capacity(data.channels.len());
+    for ch in &data.channels {
+        let (eq, sign) = fe.measured_dof(ch.node, ch.direction)?;
+        channels.push(row(eq, sign));
+    }
+    let beam_nodes: Vec<u32> = {
+        let mut v: Vec<u32> = deck.beams.iter().flat_map(|b| b.nodes).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let mut nodes = Vec::new();
+    for (deck_dof, dof) in [
+        (DeckDof::X, Dof::X),
+        (DeckDof::Y, Dof::Y),
+        (DeckDof::Z, Dof::Z),
+    ] {
+        if !deck.analysis.has_dof(deck_dof) {
+            continue;
+        }
+        let rows: NodeRows = beam_nodes
+            .iter()
+            .filter_map(|&n| fe.dofs.index(n, dof).map(|eq| (n, row(eq, 1.0))))
+            .filter(|(_, u)| u.iter().any(|x| x.abs() > 0.0))
+            .collect();
+        if !rows.is_empty() {
+            nodes.push((deck_dof, rows));
+        }
+    }
+    Some(RigidRows { nodes, channels })
+}
+
+/// The placement of springs at `pick` (indices into `nodes`), scored.
+fn score(
+    rows: &RigidRows,
+    test: &SuspensionModes,
+    nodes: &[(u32, Vec<f64>)],
+    pick: &[usize],
+    dof: DeckDof,
+) -> Option<Placement> {
+    let nr = rows.channels.first()?.len();
+    let mut g = DMatrix::<f64>::zeros(nr, nr);
+    for &i in pick {
+        let u = &nodes[i].1;
+        for a in 0..nr {
+            for b in 0..nr {
+                g[(a, b)] += u[a] * u[b];
+            }
+        }
+    }
+    let eig = SymmetricEigen::new(g);
+    let mu_top = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(*v));
+    if !(mu_top > 0.0) {
+        return None;
+    }
+    // The modes the springs hold (μ > 0); their shapes at the channels.
+    let held: Vec<(f64, Vec<f64>)> = (0..nr)
+        .filter(|&i| eig.eigenvalues[i] > 1e-9 * mu_top)
+        .map(|i| {
+            let q = eig.eigenvectors.column(i);
+            let shape = rows
+                .channels
+                .iter()
+                .map(|u| (0..nr).map(|a| u[a] * q[a]).sum())
+                .collect();
+            (eig.eigenvalues[i], shape)
+        })
+        .collect();
+    let pairs = pair_by_mac(&test.shapes, &held);
+    if pairs.is_empty() {
+        return None;
+    }
+    let omega2 = |t: usize| (2.0 * std::f64::consts::PI * test.frequency_hz[t]).powi(2);
+    let ln_k = pairs
+        .iter()
+        .map(|&(t, i, _)| (omega2(t) / held[i].0).ln())
+        .sum::<f64>()
+        / pairs.len() as f64;
+    let mut s = (test.frequency_hz.len() - pairs.len()) as f64;
+    for &(t, i, mac) in &pairs {
+        let d = 0.5 * (omega2(t).ln() - ln_k - held[i].0.ln());
+        s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
+    }
+    s += PER_SPRING * (pick.len() - 1) as f64;
+    let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
+    names.sort_unstable();
+    Some(Placement {
+        nodes: names,
+        dof,
+        k: ln_k.exp(),
+        score: s,
+    })
+}
+
+/// Test modes paired with held modes, highest MAC first, each used once:
+/// (test index, held index, MAC).
+fn pair_by_mac(test: &[Vec<f64>], held: &[(f64, Vec<f64>)]) -> Vec<(usize, usize, f64)> {
+    let mut all: Vec<(usize, usize, f64)> = Vec::new();
+    for (t, a) in test.iter().enumerate() {
+        for (i, (_, b)) in held.iter().enumerate() {
+            all.push((t, i, mac(a, b)));
+        }
+    }
+    all.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
+    let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
+    for (t, i, m) in all {
+        if pairs.iter().all(|&(u, j, _)| u != t && j != i) {
+            pairs.push((t, i, m));
+        }
+    }
+    pairs
+}
+
+/// Modal assurance criterion of two real shapes (0 when either is zero).
+fn mac(a: &[f64], b: &[f64]) -> f64 {
+    let ab: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
+    let aa: f64 = a.iter().map(|x| x * x).sum();
+    let bb: f64 = b.iter().map(|x| x * x).sum();
+    if aa > 0.0 && bb > 0.0 {
+        ab * ab / (aa * bb)
+    } else {
+        0.0
+    }
+}
+
+/// The placements as suspension hypotheses (the usual bounds of k).
+pub fn hypotheses(ctx: &Context, placed: &[Placement]) -> Vec<Hypothesis> {
+    placed
+        .iter()
+        .map(|p| hypotheses::springs::suspension(ctx, p.nodes.clone(), p.dof))
+        .collect()
+}

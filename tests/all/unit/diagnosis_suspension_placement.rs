@@ -1,0 +1,123 @@
+//! Unit tests of `src/diagnosis/suspension_placement.rs` through its public
+//! interface.
+
+use faer::c64;
+use frfup::diagnosis::hypotheses::{total_mass, Context};
+use frfup::diagnosis::suspension_placement::*;
+use frfup::model::{self, Damping, ParameterValues};
+use frfup::testdata::{Channel, FrfKind, MeasuredFrfs};
+use frfup::updating::fullband::data::TestData;
+use frfup_parsers::deck::{parse, Deck, DeckDof};
+
+const K: f64 = 500.0;
+
+/// A uniform free-free steel beam in the x–z plane, 0.8 m on 9 nodes; with
+/// `springs`, on vertical springs K at its two ends.
+fn deck(springs: bool) -> Deck {
+    let mut text =
+        String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
+    for i in 1..=9 {
+        text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
+    }
+    for i in 1..=8 {
+        text += &format!("beam {i} {i} {} st s\n", i + 1);
+    }
+    if springs {
+        text += &format!("spring 1 1 z k={K}\nspring 2 9 z k={K}\n");
+    }
+    parse(&text).unwrap()
+}
+
+/// Accelerances of `deck` at z of nodes 2, 4, 6, 8, 9 for a force at 9 z,
+/// 0.05–60 Hz (its suspension modes; the first elastic one is near 400 Hz).
+fn test_data(deck: &Deck) -> TestData {
+    let fe = model::build(deck, &ParameterValues::new()).unwrap();
+    let lines: Vec<f64> = (1..=1200).map(|i| i as f64 * 0.05).collect();
+    let omegas: Vec<f64> = lines
+        .iter()
+        .map(|f| 2.0 * std::f64::consts::PI * f)
+        .collect();
+    let nodes = [2u32, 4, 6, 8, 9];
+    let outputs: Vec<usize> = nodes
+        .iter()
+        .map(|&n| fe.measured_dof(n, 3).unwrap().0)
+        .collect();
+    let h = frfup::solvers::frf::direct_receptance(
+        &fe.stiffness,
+        &fe.mass,
+        Damping::Modal { zeta: 0.01 },
+        &omegas,
+        fe.measured_dof(9, 3).unwrap().0,
+        &outputs,
+    );
+    let channels = nodes
+        .iter()
+        .enumerate()
+        .map(|(o, &node)| Channel {
+            response_node: node as i64,
+            response_direction: 3,
+            reference_node: 9,
+            reference_direction: 3,
+            values: (0..omegas.len())
+                .map(|l| h[(o, l)] * c64::new(-omegas[l] * omegas[l], 0.0))
+                .collect(),
+        })
+        .collect();
+    TestData::new(&MeasuredFrfs {
+        frequencies_hz: lines,
+        kind: FrfKind::Accelerance,
+        channels,
+    })
+    .unwrap()
+}
+
+fn context(deck: &Deck) -> Context<'_> {
+    Context {
+        deck,
+        sensor_nodes: vec![2, 4, 6, 8, 9],
+        total_mass: total_mass(deck),
+        free_free: true,
+        first_elastic_omega: 2.0 * std::f64::consts::PI * 400.0,
+    }
+}
+
+/// A rigid uniform beam of mass m and length L on two springs k at its
+/// ends bounces at ω² = 2k/m and pitches at ω² = 2k(L/2)²/(mL²/12) = 6k/m,
+/// with shapes 1 and x − L/2. Given those, the placement is the two ends
+/// and k comes back to rounding (the consistent mass matrix holds the rigid
+/// body's mass and inertia exactly).
+#[test]
+fn the_ends_and_k_from_the_closed_form_rigid_body_modes() {
+    let free = deck(false);
+    let data = test_data(&free);
+    let m = 7850.0 * 1e-3 * 0.8;
+    let hz = |w2: f64| w2.sqrt() / (2.0 * std::f64::consts::PI);
+    let x = [0.1, 0.3, 0.5, 0.7, 0.8];
+    let test = SuspensionModes {
+        frequency_hz: vec![hz(2.0 * K / m), hz(6.0 * K / m)],
+        shapes: vec![vec![1.0; 5], x.iter().map(|x| x - 0.4).collect()],
+    };
+    let placed = placements(&context(&free), &data, &test, 3);
+    let best = &placed[0];
+    assert_eq!((best.nodes.clone(), best.dof), (vec![1, 9], DeckDof::Z));
+    assert!((best.k / K - 1.0).abs() < 1e-9, "k = {}", best.k);
+    // Nothing but the cost of the second spring (1e-3).
+    assert!((best.score - 1e-3).abs() < 1e-9, "score {}", best.score);
+    // Every other set misses the frequency ratio √3 or the pitch's node.
+    assert!(placed[1].score > 0.05, "runner-up {:?}", placed[1]);
+}
+
+/// End to end: the suspension modes identified from FRFs simulated on the
+/// springs (the elastic modes' coupling shifts them by ~(2 Hz / 400 Hz)²),
+/// then placed on the deck without them.
+#[test]
+fn springs_at_the_ends_are_placed_from_simulated_frfs() {
+    let data = test_data(&deck(true));
+    let free = deck(false);
+    let test = test_suspension_modes(&data, &identified_modes(&data), 400.0);
+    assert_eq!(test.frequency_hz.len(), 2, "{:?}", test.frequency_hz);
+    let placed = placements(&context(&free), &data, &test, 3);
+    assert_eq!(placed[0].nodes, vec![1, 9]);
+    // The identification's frequencies (0.01 % here) set k to twice that.
+    assert!((placed[0].k / K - 1.0).abs() < 2e-3, "k = {}", placed[0].k);
+}
