@@ -29,6 +29,7 @@ use super::hypotheses::{self, Context, Hypothesis};
 use crate::identification::ColumnMode;
 use crate::model::{self, Dof, ParameterValues};
 use crate::testdata::FrfKind;
+use crate::updating::correlation::mac;
 
 /// Test modes below this fraction of the deck's first elastic frequency are
 /// the suspension's.
@@ -303,18 +304,6 @@ fn pair_by_mac(test: &[Vec<f64>], held: &[(f64, Vec<f64>)]) -> Vec<(usize, usize
         }
     }
     pairs
-}
-
-/// Modal assurance criterion of two real shapes (0 when either is zero).
-fn mac(a: &[f64], b: &[f64]) -> f64 {
-    let ab: f64 = a.iter().zip(b).map(|(x, y)| x * y).sum();
-    let aa: f64 = a.iter().map(|x| x * x).sum();
-    let bb: f64 = b.iter().map(|x| x * x).sum();
-    if aa > 0.0 && bb > 0.0 {
-        ab * ab / (aa * bb)
-    } else {
-        0.0
-    }
 }
 
 /// The placements as suspension hypotheses (the usual bounds of k).
