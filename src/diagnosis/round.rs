@@ -356,7 +356,8 @@ fn placed_suspension(engine: &Engine, cur: &Current, chosen: &mut Vec<Hypothesis
         suspension_placement::test_suspension_modes(engine.data, engine.test_modes(), first_hz);
     let placed = suspension_placement::placements(&cur.ctx, engine.data, &test, PLACED_SETS);
     let mut labels = Vec::new();
-    for h in suspension_placement::hypotheses(&cur.ctx, &placed) {
+    for p in placed {
+        let h = hypotheses::springs::suspension(&cur.ctx, p.nodes, p.dof);
         if cur.used.contains(&h.label) {
             continue;
         }
@@ -441,7 +442,8 @@ fn fit_in_full(
 /// in the update: the three best candidates with a parameter, and every
 /// candidate without one (shear deformation), are fitted again with them
 /// free (decks with one to six parameters; on models over 200 DOFs the two
-/// best with a parameter), kept where the cost falls.
+/// best with a parameter), and the candidates named in `always` besides,
+/// kept where the cost falls.
 fn refit_with_deck_parameters(
     engine: &Engine,
     cur: &Current,
@@ -454,10 +456,11 @@ fn refit_with_deck_parameters(
     }
     let mut with_param = 0;
     for (h, f) in fitted.iter_mut() {
+        let forced = always.contains(&h.label);
         let g = if h.param.is_none() {
             joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
-        } else if always.contains(&h.label) || with_param < if cur.large { 2 } else { 3 } {
-            with_param += usize::from(!always.contains(&h.label));
+        } else if forced || with_param < if cur.large { 2 } else { 3 } {
+            with_param += usize::from(!forced);
             let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
             frequency_seeded_with(engine, &problem, cur.damp, Some(f))
         } else {

@@ -21,14 +21,13 @@
 //! above one another under vertical springs) are told apart there, or not
 //! at all.
 
-use frfup_parsers::deck::{Deck, DeckDof};
+use frfup_parsers::deck::DeckDof;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::data::TestData;
-use super::hypotheses::{self, Context, Hypothesis};
+use super::hypotheses::Context;
 use crate::identification::ColumnMode;
 use crate::model::{self, Dof, ParameterValues};
-use crate::testdata::FrfKind;
 use crate::updating::correlation::mac;
 
 /// Test modes below this fraction of the deck's first elastic frequency are
@@ -72,12 +71,8 @@ pub fn test_suspension_modes(
 
 /// The test's modes by the identification of the update and `identify`.
 pub fn identified_modes(data: &TestData) -> Vec<ColumnMode> {
-    let kind = match data.order {
-        0 => FrfKind::Receptance,
-        1 => FrfKind::Mobility,
-        _ => FrfKind::Accelerance,
-    };
-    crate::identification::identify_column(&data.lines_hz, kind, &data.values).unwrap_or_default()
+    crate::identification::identify_column(&data.lines_hz, data.kind, &data.values)
+        .unwrap_or_default()
 }
 
 /// One placement: the nodes, the direction, k fitted to the frequencies
@@ -115,7 +110,7 @@ pub fn placements(
     if test.frequency_hz.is_empty() || !ctx.free_free {
         return Vec::new();
     }
-    let Some(rows) = rigid_rows(ctx.deck, data) else {
+    let Some(rows) = rigid_rows(ctx, data) else {
         return Vec::new();
     };
     let mut all: Vec<Placement> = Vec::new();
@@ -165,7 +160,8 @@ fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)]) -> Vec<usize> {
 
 /// The rigid-body modes of `deck` at its beam nodes and at the channels;
 /// `None` if it has none (fixed, or on springs already) or cannot be solved.
-fn rigid_rows(deck: &Deck, data: &TestData) -> Option<RigidRows> {
+fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
+    let deck = ctx.deck;
     let fe = model::build(deck, &ParameterValues::new()).ok()?;
     if fe.has_fixed_dofs {
         return None;
@@ -198,12 +194,7 @@ fn rigid_rows(deck: &Deck, data: &TestData) -> Option<RigidRows> {
         let (eq, sign) = fe.measured_dof(ch.node, ch.direction)?;
         channels.push(row(eq, sign));
     }
-    let beam_nodes: Vec<u32> = {
-        let mut v: Vec<u32> = deck.beams.iter().flat_map(|b| b.nodes).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    };
+    let beam_nodes = ctx.beam_nodes();
     let mut nodes = Vec::new();
     for (deck_dof, dof) in [
         (DeckDof::X, Dof::X),
@@ -304,12 +295,4 @@ fn pair_by_mac(test: &[Vec<f64>], held: &[(f64, Vec<f64>)]) -> Vec<(usize, usize
         }
     }
     pairs
-}
-
-/// The placements as suspension hypotheses (the usual bounds of k).
-pub fn hypotheses(ctx: &Context, placed: &[Placement]) -> Vec<Hypothesis> {
-    placed
-        .iter()
-        .map(|p| hypotheses::springs::suspension(ctx, p.nodes.clone(), p.dof))
-        .collect()
 }

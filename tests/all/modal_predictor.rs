@@ -30,7 +30,7 @@ fn test_data() -> TestData {
 
 /// `deck` simulated directly at the channels and lines of `data`.
 fn direct(deck: &Deck, data: &TestData) -> Vec<Vec<faer::c64>> {
-    assert_eq!(data.order, 2, "the fixture is accelerance");
+    assert_eq!(data.kind.order(), 2, "the fixture is accelerance");
     let lines = data.lines_hz.clone();
     let campaign = Campaign {
         input: NodeDirection {

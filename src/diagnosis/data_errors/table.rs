@@ -64,7 +64,7 @@ impl ModalTable {
             .map(|v| {
                 v.iter()
                     .zip(&data.omegas)
-                    .map(|(h, &w)| h / i_omega_power(w, data.order))
+                    .map(|(h, &w)| h / i_omega_power(w, data.kind.order()))
                     .collect()
             })
             .collect();

@@ -5,7 +5,7 @@
 use faer::c64;
 
 use super::FitError as DiagnoseError;
-use crate::testdata::MeasuredFrfs;
+use crate::testdata::{FrfKind, MeasuredFrfs};
 use crate::updating::frequencies::{indicator, pick_peaks, PeakOptions, Resonance};
 
 /// One measured channel (test node ids, UFF direction codes).
@@ -22,8 +22,9 @@ pub struct TestData {
     /// Frequency lines used (Hz, all > 0) and ω = 2πf (rad/s).
     pub lines_hz: Vec<f64>,
     pub omegas: Vec<f64>,
-    /// Power of iω that turns receptance into the measured kind.
-    pub order: i32,
+    /// The measured kind (its `order()`: the power of iω that turns
+    /// receptance into it).
+    pub kind: FrfKind,
     pub channels: Vec<ChannelInfo>,
     /// Measured FRF `values[channel][line]`, measured kind, SI units.
     pub values: Vec<Vec<c64>>,
@@ -125,7 +126,7 @@ impl TestData {
         Ok(TestData {
             lines_hz,
             omegas,
-            order: test.kind.order(),
+            kind: test.kind,
             channels,
             values,
             sigma,

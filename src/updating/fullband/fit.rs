@@ -264,7 +264,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
                 *hi += di * a;
             }
         }
-        let kind = crate::testdata::i_omega_power(w, data.order);
+        let kind = crate::testdata::i_omega_power(w, data.kind.order());
         for (k, &c) in active.iter().enumerate() {
             out[c].push(c64::new(h_re[k], h_im[k]) * kind);
         }
@@ -600,7 +600,7 @@ pub fn visible_modes(mm: &ModalModel, data: &TestData) -> Vec<(usize, f64)> {
                 return None;
             }
             let a = mm.coeff.iter().map(|c| c[r].abs()).fold(0.0, f64::max);
-            Some((r, w, a * w.powi(data.order - 2)))
+            Some((r, w, a * w.powi(data.kind.order() - 2)))
         })
         .collect();
     let top = peaks.iter().map(|p| p.2).fold(0.0, f64::max);

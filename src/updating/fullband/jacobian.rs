@@ -258,7 +258,7 @@ fn row_pairs(
             let hm = pred[c][l];
             let ratio = hm / data.values[c][l];
             let factor = (ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0)
-                .then(|| crate::testdata::i_omega_power(data.omegas[l], data.order) / hm);
+                .then(|| crate::testdata::i_omega_power(data.omegas[l], data.kind.order()) / hm);
             pairs[c].push(RowPair {
                 line: i,
                 row,

@@ -1,11 +1,10 @@
 //! Unit tests of `src/diagnosis/suspension_placement.rs` through its public
 //! interface.
 
+use crate::unit::updating_fullband_reduced::{accelerances, beam_text};
 use faer::c64;
 use frfup::diagnosis::hypotheses::{total_mass, Context};
 use frfup::diagnosis::suspension_placement::*;
-use frfup::model::{self, Damping, ParameterValues};
-use frfup::testdata::{Channel, FrfKind, MeasuredFrfs};
 use frfup::updating::fullband::data::TestData;
 use frfup_parsers::deck::{parse, Deck, DeckDof};
 
@@ -14,14 +13,7 @@ const K: f64 = 500.0;
 /// A uniform free-free steel beam in the x–z plane, 0.8 m on 9 nodes; with
 /// `springs`, on vertical springs K at its two ends.
 fn deck(springs: bool) -> Deck {
-    let mut text =
-        String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
-    for i in 1..=9 {
-        text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
-    }
-    for i in 1..=8 {
-        text += &format!("beam {i} {i} {} st s\n", i + 1);
-    }
+    let mut text = beam_text();
     if springs {
         text += &format!("spring 1 1 z k={K}\nspring 2 9 z k={K}\n");
     }
@@ -31,44 +23,8 @@ fn deck(springs: bool) -> Deck {
 /// Accelerances of `deck` at z of nodes 2, 4, 6, 8, 9 for a force at 9 z,
 /// 0.05–60 Hz (its suspension modes; the first elastic one is near 400 Hz).
 fn test_data(deck: &Deck) -> TestData {
-    let fe = model::build(deck, &ParameterValues::new()).unwrap();
     let lines: Vec<f64> = (1..=1200).map(|i| i as f64 * 0.05).collect();
-    let omegas: Vec<f64> = lines
-        .iter()
-        .map(|f| 2.0 * std::f64::consts::PI * f)
-        .collect();
-    let nodes = [2u32, 4, 6, 8, 9];
-    let outputs: Vec<usize> = nodes
-        .iter()
-        .map(|&n| fe.measured_dof(n, 3).unwrap().0)
-        .collect();
-    let h = frfup::solvers::frf::direct_receptance(
-        &fe.stiffness,
-        &fe.mass,
-        Damping::Modal { zeta: 0.01 },
-        &omegas,
-        fe.measured_dof(9, 3).unwrap().0,
-        &outputs,
-    );
-    let channels = nodes
-        .iter()
-        .enumerate()
-        .map(|(o, &node)| Channel {
-            response_node: node as i64,
-            response_direction: 3,
-            reference_node: 9,
-            reference_direction: 3,
-            values: (0..omegas.len())
-                .map(|l| h[(o, l)] * c64::new(-omegas[l] * omegas[l], 0.0))
-                .collect(),
-        })
-        .collect();
-    TestData::new(&MeasuredFrfs {
-        frequencies_hz: lines,
-        kind: FrfKind::Accelerance,
-        channels,
-    })
-    .unwrap()
+    accelerances(deck, lines, 9, &[2, 4, 6, 8, 9], 0.01, c64::new(1.0, 0.0))
 }
 
 fn context(deck: &Deck) -> Context<'_> {

@@ -12,8 +12,9 @@ use frfup::updating::fullband::reduced::*;
 use frfup_parsers::deck::parse;
 use frfup_parsers::deck::Deck;
 
-/// A free-free beam on soft springs, 4 channels (the Jacobian test's).
-pub fn beam() -> (Deck, TestData) {
+/// The deck text of a uniform steel beam in the x–z plane, 0.8 m on nodes
+/// 1–9 along x, beams 1–8 (nothing else).
+pub fn beam_text() -> String {
     let mut text =
         String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
     for i in 1..=9 {
@@ -22,17 +23,36 @@ pub fn beam() -> (Deck, TestData) {
     for i in 1..=8 {
         text += &format!("beam {i} {i} {} st s\n", i + 1);
     }
+    text
+}
+
+/// A free-free beam on soft springs, 4 channels (the Jacobian test's).
+pub fn beam() -> (Deck, TestData) {
+    let mut text = beam_text();
     text += "mass 1 9 m=0.2\nspring 1 1 z k=500\nspring 2 9 z k=500\n";
     text += "damping modal 0.02\nparam left E 1-4\nparam right Iy 5-8\nparam tip m 1\nparam sup k 1-2\n";
     let deck = parse(&text).unwrap();
-    let fe = model::build(&deck, &ParameterValues::new()).unwrap();
     let lines: Vec<f64> = (1..=300).map(|i| i as f64 * 2.0).collect();
-    let input = fe.measured_dof(9, 3).unwrap().0;
+    // 1 % off the model so that residuals are not zero.
+    let data = accelerances(&deck, lines, 9, &[3, 5, 7, 9], 0.02, c64::new(1.01, 0.005));
+    (deck, data)
+}
+
+/// Accelerances of `deck` (direct solution, modal damping `zeta`) at z of
+/// `nodes` for a force at z of `input`, times `factor`, as test data.
+pub fn accelerances(
+    deck: &Deck,
+    lines: Vec<f64>,
+    input: u32,
+    nodes: &[u32],
+    zeta: f64,
+    factor: c64,
+) -> TestData {
+    let fe = model::build(deck, &ParameterValues::new()).unwrap();
     let omegas: Vec<f64> = lines
         .iter()
         .map(|f| 2.0 * std::f64::consts::PI * f)
         .collect();
-    let nodes = [3u32, 5, 7, 9];
     let outputs: Vec<usize> = nodes
         .iter()
         .map(|&n| fe.measured_dof(n, 3).unwrap().0)
@@ -40,9 +60,9 @@ pub fn beam() -> (Deck, TestData) {
     let h = frfup::solvers::frf::direct_receptance(
         &fe.stiffness,
         &fe.mass,
-        Damping::Modal { zeta: 0.02 },
+        Damping::Modal { zeta },
         &omegas,
-        input,
+        fe.measured_dof(input, 3).unwrap().0,
         &outputs,
     );
     let channels = nodes
@@ -51,11 +71,10 @@ pub fn beam() -> (Deck, TestData) {
         .map(|(o, &node)| Channel {
             response_node: node as i64,
             response_direction: 3,
-            reference_node: 9,
+            reference_node: input as i64,
             reference_direction: 3,
-            // Accelerance, 1 % off the model so that residuals are not zero.
             values: (0..omegas.len())
-                .map(|l| h[(o, l)] * (-omegas[l] * omegas[l]) * c64::new(1.01, 0.005))
+                .map(|l| h[(o, l)] * (-omegas[l] * omegas[l]) * factor)
                 .collect(),
         })
         .collect();
@@ -64,7 +83,7 @@ pub fn beam() -> (Deck, TestData) {
         kind: FrfKind::Accelerance,
         channels,
     };
-    (deck, TestData::new(&test).unwrap())
+    TestData::new(&test).unwrap()
 }
 
 /// At its anchor the reduced model's FRFs are the full modal model's
