@@ -22,6 +22,7 @@ pub mod select;
 pub mod suspension_placement;
 pub mod verdict;
 
+mod channel_checks;
 mod final_damping;
 pub use final_damping::{identified_disagreement, DAMPING_AGREEMENT};
 mod first_stage;
@@ -198,16 +199,16 @@ pub fn diagnose_with_progress(
     let (measured, mut ignored_channels) = search::placed_test_data(deck, &column, roving)?;
     // Data errors before physics: the rest runs on the corrected test.
     stage("checking each channel");
-    let checked = data_errors::check(&measured, &fit::modal_model(deck, &measured)?);
-    let (test, data) = if checked.is_empty() {
-        (column, measured.clone())
-    } else {
-        let fixed = data_errors::correct::corrected(&column, &measured, &checked);
-        let (data, _) = search::placed_test_data(deck, &fixed, roving)?;
-        (fixed, data)
-    };
+    let channel_checks::Checked {
+        errors: checked,
+        test,
+        data,
+        first: first_on_checked,
+        evaluations: check_evaluations,
+    } = channel_checks::check(deck, &column, &measured, roving, opts)?;
     let test = &test;
     let engine = Engine::new(&data);
+    engine.evaluations.set(check_evaluations);
     let search = Search::new(&engine, deck, test, opts);
     let data_error_findings = data_error_findings(deck, &measured, &search, &checked);
     ignored_channels.extend(
@@ -221,7 +222,7 @@ pub fn diagnose_with_progress(
     // 1. The deck as given, then with its own parameters updated.
     stage("updating the deck's parameters");
     let initial = quality(&engine, deck, &search.start_damping)?;
-    let first = first_stage::update_own_parameters(&search);
+    let first = first_on_checked.unwrap_or_else(|| first_stage::update_own_parameters(&search));
     let updated = quality(&engine, &first.deck, &search.start_damping)?;
     lap("update the deck's parameters", engine.evaluations.get());
 

@@ -9,7 +9,9 @@
 //! is dead when its ratio is under [`DEAD_SNR`] while the campaign's median
 //! is at least [`LIVE_SNR`] (the test resolves its FRFs at all) and the deck
 //! predicts the channel moves: its largest modal constant in the band is
-//! at least [`MOVES`] of the median channel's. A channel the deck itself
+//! at least [`MOVES`] of the median channel's. Both medians are over the
+//! channels the deck predicts to move (largest constant at least [`MOVES`]
+//! of the campaign's largest). A channel the deck itself
 //! predicts near zero (a sensor across the plane of bending) is not flagged:
 //! noise there is the right measurement.
 
@@ -23,6 +25,13 @@ pub const DEAD_SNR: f64 = 5.0;
 pub const LIVE_SNR: f64 = 20.0;
 /// Share of the median channel's predicted response a dead channel must have.
 pub const MOVES: f64 = 0.05;
+/// Or the signal-to-noise ratio the deck predicts for it must reach this
+/// (a weak direction whose noise floor is far below its response).
+pub const CLEAR: f64 = 50.0;
+/// A channel whose largest predicted modal constant is under this share of
+/// the campaign's largest does not move at all (a direction the deck
+/// uncouples from the excitation: its noise floor is round-off).
+pub const AT_ALL: f64 = 1e-3;
 
 /// Signal-to-noise ratio of each channel.
 pub fn snr(data: &TestData) -> Vec<f64> {
@@ -59,6 +68,22 @@ pub fn predicted_strength(data: &TestData, mm: &ModalModel) -> Vec<f64> {
         .collect()
 }
 
+/// The signal-to-noise ratio the deck predicts at each channel: the 99th
+/// percentile over lines of |H_model,c(l)| / σ_c, the deck's modes damped
+/// at the test's half-power damping ratio, σ_c the channel's measured noise.
+pub fn predicted_snr(data: &TestData, mm: &ModalModel) -> Vec<f64> {
+    let damping = crate::model::Damping::Modal {
+        zeta: data.half_power_zeta(),
+    };
+    let all = super::super::fit::Mask::all(data);
+    let model = super::super::fit::predict(mm, damping, data, &all);
+    let as_data = TestData {
+        values: model,
+        ..data.clone()
+    };
+    snr(&as_data)
+}
+
 /// The dead channels of `data`.
 pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     if data.channels.len() < 3 {
@@ -66,20 +91,29 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     }
     let snr = snr(data);
     let strength = predicted_strength(data, mm);
-    let (Some(snr_mid), Some(strength_mid)) = (median(&snr), median(&strength)) else {
+    // The medians are over the channels the deck predicts to move at all: a
+    // campaign may measure directions that the excitation leaves still.
+    let largest = strength.iter().fold(0.0f64, |a, p| a.max(*p));
+    let moving: Vec<usize> = (0..strength.len())
+        .filter(|&c| strength[c] >= MOVES * largest)
+        .collect();
+    let over_moving = |v: &[f64]| median(&moving.iter().map(|&c| v[c]).collect::<Vec<_>>());
+    let (Some(snr_mid), Some(strength_mid)) = (over_moving(&snr), over_moving(&strength)) else {
         return Vec::new();
     };
     if snr_mid < LIVE_SNR || !(strength_mid > 0.0) {
         return Vec::new();
     }
-    let dead: Vec<DataError> = snr
-        .iter()
-        .zip(&strength)
-        .enumerate()
-        .filter(|(_, (s, p))| **s < DEAD_SNR && **p >= MOVES * strength_mid)
-        .map(|(c, (s, _))| DataError {
+    let expected = predicted_snr(data, mm);
+    let dead: Vec<DataError> = (0..snr.len())
+        .filter(|&c| {
+            snr[c] < DEAD_SNR
+                && (strength[c] >= MOVES * strength_mid
+                    || (expected[c] >= CLEAR && strength[c] >= AT_ALL * largest))
+        })
+        .map(|c| DataError {
             channel: c,
-            kind: DataErrorKind::Dead { snr: *s },
+            kind: DataErrorKind::Dead { snr: snr[c] },
         })
         .collect();
     // Most channels "dead" means the test, not a channel, is the problem.

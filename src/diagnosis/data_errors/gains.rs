@@ -188,6 +188,7 @@ fn judge(p: &Paired, e: &Effects, c: usize) -> Option<DataErrorKind> {
     } else if reversed {
         Some(DataErrorKind::Reversed {
             agreement: e.agreement[c],
+            over: "its modes' weight",
         })
     } else {
         None

@@ -11,6 +11,9 @@
 //!   (`channel-scale`: 9.81, 1000, 25.4, …);
 //! - [`swap`]: two channels whose data fit each other's place
 //!   (`swapped-channels`);
+//! - [`lines`]: the same errors judged line by line against the deck
+//!   updated on the corrected test (the second pass, which overrules these
+//!   checks where its evidence decides);
 //! - [`correct`]: the test with the errors undone (dead channels dropped).
 //!
 //! The checks compare *patterns over modes*, not values: a deck whose
@@ -23,6 +26,7 @@
 pub mod correct;
 pub mod dead;
 pub mod gains;
+pub mod lines;
 pub mod swap;
 pub mod table;
 
@@ -35,8 +39,9 @@ pub enum DataErrorKind {
     /// The channel holds noise only (99 % of its lines under 5 σ of its own noise).
     Dead { snr: f64 },
     /// The channel's sign is reversed (`agreement`: the weighted share of
-    /// modes whose sign agrees with the deck, −1 … 1).
-    Reversed { agreement: f64 },
+    /// the evidence whose sign agrees with the deck, −1 … 1; `over`: what
+    /// that evidence is, in words).
+    Reversed { agreement: f64, over: &'static str },
     /// The channel is `factor` times what it should be (negative: also reversed).
     Scale {
         factor: f64,
@@ -135,10 +140,10 @@ pub fn finding(e: &DataError, data: &TestData, before: f64, after: f64) -> Optio
                 super::sig(*snr)
             ),
         ),
-        DataErrorKind::Reversed { agreement } => (
+        DataErrorKind::Reversed { agreement, over } => (
             Physics::ReversedChannel,
             format!(
-                "channel {} has the opposite sign to the deck on {:.0} % of its modes' weight; turned round",
+                "channel {} has the opposite sign to the deck on {:.0} % of {over}; turned round",
                 ch.label,
                 50.0 * (1.0 - agreement)
             ),

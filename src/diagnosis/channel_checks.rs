@@ -1,0 +1,114 @@
+//! Data errors before physics, in two passes: the modal checks on the deck
+//! as given ([`data_errors::check`]), then the line-by-line checks
+//! ([`data_errors::lines`]) against the deck updated on the test those
+//! corrected. The second pass sees what the first had no evidence for (few
+//! modes in the band, a channel near their nodal points, two wrong
+//! channels in one campaign) and overrules it where the lines decide.
+
+use frfup_parsers::deck::Deck;
+
+use super::data::TestData;
+use super::data_errors::{self, lines, DataError, DataErrorKind};
+use super::first_stage::{self, FirstStage};
+use super::fit::{self, Mask};
+use super::search::{self, Search};
+use super::select::{Engine, FitRequest};
+use super::{DiagnoseError, DiagnoseOptions};
+use crate::testdata::MeasuredFrfs;
+
+/// The data errors found, the test and fitting data with them undone, and
+/// the first stage on that test when the second pass changed nothing.
+pub(super) struct Checked {
+    pub errors: Vec<DataError>,
+    pub test: MeasuredFrfs,
+    pub data: TestData,
+    pub first: Option<FirstStage>,
+    /// Model solutions the checks took.
+    pub evaluations: usize,
+}
+
+/// Both passes on `measured` (the channels of `column` the deck places).
+pub(super) fn check(
+    deck: &Deck,
+    column: &MeasuredFrfs,
+    measured: &TestData,
+    roving: bool,
+    opts: &DiagnoseOptions,
+) -> Result<Checked, DiagnoseError> {
+    let modal = data_errors::check(measured, &fit::modal_model(deck, measured)?);
+    let (test, data) = corrected(deck, column, measured, roving, &modal)?;
+    let engine = Engine::new(&data);
+    let search = Search::new(&engine, deck, &test, opts);
+    let first = first_stage::update_own_parameters(&search);
+    let live: Vec<bool> = (0..measured.channels.len())
+        .map(|c| {
+            !modal
+                .iter()
+                .any(|e| e.channel == c && matches!(e.kind, DataErrorKind::Dead { .. }))
+        })
+        .collect();
+    let errors = if live.iter().filter(|l| **l).count() < 4 {
+        modal.clone()
+    } else {
+        match predicted(&engine, &search, &first.deck, measured) {
+            Some(model) => lines::reconcile(&modal, &lines::verdicts(measured, &model, &live)),
+            None => modal.clone(),
+        }
+    };
+    let evaluations = engine.evaluations.get();
+    if errors == modal {
+        return Ok(Checked {
+            errors,
+            test,
+            data,
+            first: Some(first),
+            evaluations,
+        });
+    }
+    let (test, data) = corrected(deck, column, measured, roving, &errors)?;
+    Ok(Checked {
+        errors,
+        test,
+        data,
+        first: None,
+        evaluations,
+    })
+}
+
+/// `column` with `errors` undone, and its fitting data.
+fn corrected(
+    deck: &Deck,
+    column: &MeasuredFrfs,
+    measured: &TestData,
+    roving: bool,
+    errors: &[DataError],
+) -> Result<(MeasuredFrfs, TestData), DiagnoseError> {
+    if errors.is_empty() {
+        return Ok((column.clone(), measured.clone()));
+    }
+    let fixed = data_errors::correct::corrected(column, measured, errors);
+    let (data, _) = search::placed_test_data(deck, &fixed, roving)?;
+    Ok((fixed, data))
+}
+
+/// The FRFs of `deck` at every channel of `measured`, with the damping
+/// fitted on the corrected test (`None` if the deck gives no usable FRF).
+fn predicted(
+    engine: &Engine,
+    search: &Search,
+    deck: &Deck,
+    measured: &TestData,
+) -> Option<Vec<Vec<faer::c64>>> {
+    let f = engine.fit(&FitRequest::damping(
+        deck,
+        &search.start_damping,
+        &engine.all,
+    ))?;
+    let mm = fit::modal_model(deck, measured).ok()?;
+    Some(fit::predict(
+        &mm,
+        f.damping.damping(),
+        measured,
+        &Mask::all(measured),
+    ))
+}
