@@ -24,6 +24,7 @@ mod cli_model;
 mod cli_progress;
 mod cli_shapes;
 mod cli_uff;
+mod data_error_lines;
 mod data_errors;
 mod diagnose_benchmark;
 mod diagnose_cases;

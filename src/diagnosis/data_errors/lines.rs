@@ -162,14 +162,18 @@ pub fn verdicts(data: &TestData, model: &[Vec<c64>], live: &[bool]) -> Vec<Verdi
 
 /// Channels that fit each other's place: among the [`SWAP_SUSPECTS`]
 /// channels of largest misfit that stand out (above [`OUTLIER`] × the
-/// median channel's), the pairs whose misfits exchanged fall below
+/// median of the others but the two largest), the pairs whose misfits exchanged fall below
 /// [`SWAP_GAIN`] × their own, the clearest first, each channel in one pair.
 /// `ratio(t, m)`: measured channel t against predicted channel m.
 fn swapped_pairs(
     own: &[Option<LineRatio>],
     ratio: &dyn Fn(usize, usize) -> Option<LineRatio>,
 ) -> Vec<(usize, usize)> {
-    let misfits: Vec<f64> = own.iter().flatten().map(|r| r.misfit).collect();
+    // The typical misfit is the median without the two largest (a swapped
+    // pair is two of a campaign's few channels).
+    let mut misfits: Vec<f64> = own.iter().flatten().map(|r| r.misfit).collect();
+    misfits.sort_by(|a, b| a.total_cmp(b));
+    misfits.truncate(misfits.len().saturating_sub(2));
     let Some(typical) = median(&misfits) else {
         return Vec::new();
     };
