@@ -117,7 +117,7 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
         })
         .collect();
     // Most channels "dead" means the test, not a channel, is the problem.
-    if 2 * dead.len() >= data.channels.len() {
+    if 2 * dead.len() >= moving.len() {
         return Vec::new();
     }
     dead
