@@ -11,9 +11,11 @@
 //! predicts the channel moves: its largest modal constant in the band is
 //! at least [`MOVES`] of the median channel's. Both medians are over the
 //! channels the deck predicts to move (largest constant at least [`MOVES`]
-//! of the campaign's largest). A channel the deck itself
-//! predicts near zero (a sensor across the plane of bending) is not flagged:
-//! noise there is the right measurement.
+//! of the campaign's largest). A channel the deck itself predicts near zero
+//! (a sensor across the plane of bending) is flagged only if the deck's FRF
+//! there, set against the channel's own noise floor, would stand [`CLEAR`]
+//! × above it: noise is the right measurement of a response below the
+//! noise, not of one far above it.
 
 use super::super::data::TestData;
 use super::super::fit::ModalModel;
@@ -38,19 +40,22 @@ pub fn snr(data: &TestData) -> Vec<f64> {
     data.values
         .iter()
         .zip(&data.sigma)
-        .map(|(v, &s)| {
-            let mut m: Vec<f64> = v.iter().map(|z| z.norm()).collect();
-            m.sort_by(|a, b| a.total_cmp(b));
-            let top = m.get((m.len() * 99) / 100).copied().unwrap_or(0.0);
-            if s > 0.0 {
-                top / s
-            } else if top > 0.0 {
-                f64::INFINITY
-            } else {
-                0.0
-            }
-        })
+        .map(|(v, &s)| channel_snr(v, s))
         .collect()
+}
+
+/// The 99th percentile over lines of |v| / `sigma`.
+fn channel_snr(v: &[faer::c64], sigma: f64) -> f64 {
+    let mut m: Vec<f64> = v.iter().map(|z| z.norm()).collect();
+    m.sort_by(|a, b| a.total_cmp(b));
+    let top = m.get((m.len() * 99) / 100).copied().unwrap_or(0.0);
+    if sigma > 0.0 {
+        top / sigma
+    } else if top > 0.0 {
+        f64::INFINITY
+    } else {
+        0.0
+    }
 }
 
 /// Largest |modal constant| of each channel over the modes up to 1.2 × the
@@ -77,11 +82,11 @@ pub fn predicted_snr(data: &TestData, mm: &ModalModel) -> Vec<f64> {
     };
     let all = super::super::fit::Mask::all(data);
     let model = super::super::fit::predict(mm, damping, data, &all);
-    let as_data = TestData {
-        values: model,
-        ..data.clone()
-    };
-    snr(&as_data)
+    model
+        .iter()
+        .zip(&data.sigma)
+        .map(|(v, &s)| channel_snr(v, s))
+        .collect()
 }
 
 /// The dead channels of `data`.
@@ -104,7 +109,12 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     if snr_mid < LIVE_SNR || !(strength_mid > 0.0) {
         return Vec::new();
     }
-    let expected = predicted_snr(data, mm);
+    // The deck's FRFs only when some channel holds noise.
+    let expected = if snr.iter().any(|s| *s < DEAD_SNR) {
+        predicted_snr(data, mm)
+    } else {
+        vec![0.0; snr.len()]
+    };
     let dead: Vec<DataError> = (0..snr.len())
         .filter(|&c| {
             snr[c] < DEAD_SNR
