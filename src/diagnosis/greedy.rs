@@ -14,7 +14,7 @@ use frfup_parsers::deck::Deck;
 use super::data::TestData;
 use super::discriminate;
 use super::fit::DampingState;
-use super::hypotheses::{Hypothesis, Physics};
+use super::hypotheses::{prior, Hypothesis, Physics};
 use super::refit;
 use super::round::{search_round, Round};
 use super::search::Search;
@@ -51,11 +51,11 @@ pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, Di
         return Ok(None);
     };
     let (engine, opts) = (search.engine, search.opts);
+    // The budget is this search's: a second start gets its own.
+    let spent_before = engine.evaluations.get();
+    let within_budget = || engine.evaluations.get() - spent_before <= opts.evaluation_budget;
     for round in 0..opts.max_findings {
-        if g.findings.len() >= opts.max_findings
-            || g.cost <= 1.25 * search.j0
-            || engine.evaluations.get() > opts.evaluation_budget
-        {
+        if g.findings.len() >= opts.max_findings || g.cost <= 1.25 * search.j0 || !within_budget() {
             break;
         }
         let used = g.used_labels();
@@ -63,7 +63,7 @@ pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, Di
         if round == 0 {
             g.localisation = step.localisation.clone();
         }
-        if !g.take_round(search, round, step) {
+        if !g.take_round(search, round, step, within_budget()) {
             break;
         }
     }
@@ -99,7 +99,8 @@ impl Greedy {
     /// Accept what round `round` (0-based) found, if anything: a pair fitted
     /// jointly when it predicts better than the best single candidate, else
     /// that candidate. Returns false when nothing was accepted.
-    fn take_round(&mut self, search: &Search, round: usize, step: Round) -> bool {
+    /// `pairs`: the budget allows a pair search.
+    fn take_round(&mut self, search: &Search, round: usize, step: Round, pairs: bool) -> bool {
         let (engine, opts, j0) = (search.engine, search.opts, search.j0);
         let m = select::margin(self.v, j0);
         let mut scored = self.judge(round, step.validated, m, step.parameters_only);
@@ -108,22 +109,21 @@ impl Greedy {
         // the best single extension leaves the fit far from the noise level,
         // pairs of the best-fitting candidates are fitted jointly.
         let single_cost = scored.first().map_or(self.cost, |s| s.1.cost);
-        let pair = if opts.max_findings - self.findings.len() >= 2
-            && single_cost > 4.0 * j0
-            && engine.evaluations.get() <= opts.evaluation_budget
-        {
-            pair_search(
-                engine,
-                &self.base,
-                &self.accepted,
-                &step.fitted,
-                &self.damp,
-                step.large,
-            )
-        } else {
-            None
-        };
+        let pair =
+            if opts.max_findings - self.findings.len() >= 2 && single_cost > 4.0 * j0 && pairs {
+                pair_search(
+                    engine,
+                    &self.base,
+                    &self.accepted,
+                    &step.fitted,
+                    &self.damp,
+                    step.large,
+                )
+            } else {
+                None
+            };
         let v_single = scored.first().map_or(self.v, |s| s.2);
+        prefer_by_prior(&mut scored, m, &self.base);
         if let Some(p) = pair.filter(|p| p.v < v_single - select::margin(v_single, j0)) {
             self.accept_pair(round, p, &scored);
             return true;
@@ -382,6 +382,23 @@ impl Greedy {
 }
 
 /// `start` with the accepted extensions at their values.
+/// Among the candidates within the margin `m` of the best validation error
+/// (`scored` ascending), the one with the fewest free choices of place
+/// ([`prior::placement_penalty`]) is moved to the front; ties keep the
+/// lowest validation error.
+fn prefer_by_prior(scored: &mut [(Hypothesis, HypFit, f64)], m: f64, deck: &Deck) {
+    let Some(best_v) = scored.first().map(|s| s.2) else {
+        return;
+    };
+    let pick = scored
+        .iter()
+        .enumerate()
+        .take_while(|(_, s)| s.2 < best_v + m)
+        .min_by_key(|(i, s)| (prior::placement_penalty(&s.0, deck), *i))
+        .map_or(0, |(i, _)| i);
+    scored[..=pick].rotate_right(1);
+}
+
 fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
     accepted
         .iter()

@@ -57,8 +57,8 @@ pub struct DiagnoseOptions {
     pub max_findings: usize,
     /// Candidates (after screening) fitted in full per round.
     pub fitted_per_round: usize,
-    /// No new search round starts after this many model solutions
-    /// (a deterministic bound on run time).
+    /// No new search round starts after this many model solutions in one
+    /// search (each start has its own; a deterministic bound on run time).
     pub evaluation_budget: usize,
 }
 
@@ -69,7 +69,7 @@ impl Default for DiagnoseOptions {
             skip_update: false,
             max_findings: 4,
             fitted_per_round: 8,
-            evaluation_budget: 2000,
+            evaluation_budget: 6000,
         }
     }
 }

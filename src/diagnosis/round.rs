@@ -439,7 +439,8 @@ fn fit_in_full(
 }
 
 /// The deck's own parameters may have absorbed part of the missing effect
-/// in the update: the three best candidates with a parameter, and every
+/// in the update: the three best candidates with a parameter, the best of
+/// each class, and every
 /// candidate without one (shear deformation), are fitted again with them
 /// free (decks with one to six parameters; on models over 200 DOFs the two
 /// best with a parameter), and the candidates named in `always` besides,
@@ -455,11 +456,16 @@ fn refit_with_deck_parameters(
         return;
     }
     let mut with_param = 0;
+    let mut classes: Vec<Physics> = Vec::new();
     for (h, f) in fitted.iter_mut() {
         let forced = always.contains(&h.label);
+        // The best of each class is refitted too: a class whose fit on the
+        // distorted deck is poor would otherwise never compete.
+        let first_of_class = !classes.contains(&h.physics);
+        classes.push(h.physics);
         let g = if h.param.is_none() {
             joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
-        } else if forced || with_param < if cur.large { 2 } else { 3 } {
+        } else if forced || first_of_class || with_param < if cur.large { 2 } else { 3 } {
             with_param += usize::from(!forced);
             let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
             frequency_seeded_with(engine, &problem, cur.damp, Some(f))

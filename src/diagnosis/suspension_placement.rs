@@ -25,7 +25,7 @@ use frfup_parsers::deck::DeckDof;
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use super::data::TestData;
-use super::hypotheses::Context;
+use super::hypotheses::{prior, Context};
 use crate::identification::ColumnMode;
 use crate::model::{self, Dof, ParameterValues};
 use crate::updating::correlation::mac;
@@ -40,6 +40,11 @@ const LN_FREQUENCY_SCALE: f64 = 0.1;
 /// Each spring beyond the first costs this much: of two sets that explain
 /// the suspension modes alike, the smaller.
 const PER_SPRING: f64 = 1e-3;
+/// Each spring off a hard point (a free end, corner or junction, see
+/// [`prior::hard_points`]) costs this much: of sets alike in their
+/// rigid-body effect (nodes along a leg under vertical springs), the one
+/// hung from hard points.
+const OFF_HARD_POINT: f64 = 2e-3;
 /// Nodes of the best pairs among which triples are tried.
 const TRIPLE_POOL: usize = 12;
 
@@ -113,13 +118,14 @@ pub fn placements(
     let Some(rows) = rigid_rows(ctx, data) else {
         return Vec::new();
     };
+    let hard = prior::hard_points(ctx.deck);
     let mut all: Vec<Placement> = Vec::new();
     for (dof, nodes) in &rows.nodes {
         let mut found: Vec<Placement> = Vec::new();
         for a in 0..nodes.len() {
-            found.extend(score(&rows, test, nodes, &[a], *dof));
+            found.extend(score(&rows, test, nodes, &[a], *dof, &hard));
             for b in a + 1..nodes.len() {
-                found.extend(score(&rows, test, nodes, &[a, b], *dof));
+                found.extend(score(&rows, test, nodes, &[a, b], *dof, &hard));
             }
         }
         found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
@@ -127,7 +133,7 @@ pub fn placements(
         for (i, &a) in pool.iter().enumerate() {
             for (j, &b) in pool.iter().enumerate().skip(i + 1) {
                 for &c in pool.iter().skip(j + 1) {
-                    found.extend(score(&rows, test, nodes, &[a, b, c], *dof));
+                    found.extend(score(&rows, test, nodes, &[a, b, c], *dof, &hard));
                 }
             }
         }
@@ -223,6 +229,7 @@ fn score(
     nodes: &[(u32, Vec<f64>)],
     pick: &[usize],
     dof: DeckDof,
+    hard: &[u32],
 ) -> Option<Placement> {
     let nr = rows.channels.first()?.len();
     let mut g = DMatrix::<f64>::zeros(nr, nr);
@@ -268,6 +275,11 @@ fn score(
         s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
     }
     s += PER_SPRING * (pick.len() - 1) as f64;
+    s += OFF_HARD_POINT
+        * pick
+            .iter()
+            .filter(|&&i| !hard.contains(&nodes[i].0))
+            .count() as f64;
     let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
     names.sort_unstable();
     Some(Placement {

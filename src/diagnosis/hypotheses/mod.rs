@@ -6,6 +6,7 @@
 pub mod damping;
 pub mod joint;
 pub mod masses;
+pub mod prior;
 pub mod shear;
 pub mod springs;
 

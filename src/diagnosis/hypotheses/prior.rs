@@ -1,0 +1,58 @@
+//! The placement prior: which of several candidates that predict held-out
+//! data equally well (within the selection margin) is named.
+//!
+//! The prior of a class is shared among its places, so a candidate that is
+//! one of many (an added mass at any of N nodes, a joint at any of the
+//! junctions) has less prior weight than the one candidate of its class (the
+//! same mass on every sensor, damping, shear deformation). Suspension
+//! springs (bungees, air springs) are hung from hard points: a free end, a
+//! corner or a junction of members; a spring along a member costs one
+//! choice. The penalty counts these choices; among tied candidates the
+//! smallest penalty wins, then the lowest validation error.
+
+use std::collections::BTreeMap;
+
+use frfup_parsers::deck::Deck;
+
+use super::{beam_direction, Extension, Hypothesis, Physics};
+
+/// Directions closer than this (cosine) make a straight run through a node.
+const STRAIGHT: f64 = 0.985;
+
+/// Free choices of place `h` makes on `deck` (0: none).
+pub fn placement_penalty(h: &Hypothesis, deck: &Deck) -> usize {
+    match h.physics {
+        Physics::AddedMass | Physics::JointFlexibility => 1,
+        Physics::Suspension => match &h.extension {
+            Extension::GroundSprings { nodes, .. } => {
+                let hard = hard_points(deck);
+                nodes.iter().filter(|n| !hard.contains(n)).count()
+            }
+            _ => 0,
+        },
+        _ => 0,
+    }
+}
+
+/// Nodes where a member ends, turns or meets another (ascending).
+pub fn hard_points(deck: &Deck) -> Vec<u32> {
+    let mut at: BTreeMap<u32, Vec<&frfup_parsers::deck::Beam>> = BTreeMap::new();
+    for b in &deck.beams {
+        for n in b.nodes {
+            at.entry(n).or_default().push(b);
+        }
+    }
+    at.into_iter()
+        .filter(|(n, beams)| match beams.as_slice() {
+            [a, b] => {
+                match (beam_direction(deck, a, *n), beam_direction(deck, b, *n)) {
+                    // Straight through: the two directions opposite.
+                    (Some(u), Some(v)) => -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) < STRAIGHT,
+                    _ => true,
+                }
+            }
+            _ => true,
+        })
+        .map(|(n, _)| n)
+        .collect()
+}

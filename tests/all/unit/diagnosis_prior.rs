@@ -1,0 +1,43 @@
+//! The placement prior of the diagnosis (`diagnosis::hypotheses::prior`):
+//! hard points from the deck's geometry, and the free choices of place a
+//! candidate makes.
+
+use frfup::diagnosis::hypotheses::prior::{hard_points, placement_penalty};
+use frfup::diagnosis::hypotheses::{masses, springs, Context};
+use frfup_parsers::deck::Deck;
+
+fn deck(text: &str) -> Deck {
+    frfup_parsers::deck::parse(text).expect("test deck parses")
+}
+
+const L_FRAME: &str = "analysis plane\n\
+    material m E=2.1e11 nu=0.3 rho=7850\n\
+    section s A=1e-4 Iy=1e-9 Iz=1e-9 J=2e-9\n\
+    node 1 0 0 0\nnode 2 0.5 0 0\nnode 3 1 0 0\nnode 4 1 0 0.5\nnode 5 1 0 1\n\
+    beam 1 1 2 m s\nbeam 2 2 3 m s\nbeam 3 3 4 m s\nbeam 4 4 5 m s\n";
+
+#[test]
+fn ends_and_corners_are_hard_points_and_straight_runs_are_not() {
+    assert_eq!(hard_points(&deck(L_FRAME)), vec![1, 3, 5]);
+}
+
+#[test]
+fn springs_along_a_member_and_a_mass_at_any_node_cost_a_choice() {
+    let d = deck(L_FRAME);
+    let ctx = Context {
+        deck: &d,
+        sensor_nodes: vec![2, 4],
+        total_mass: 1.0,
+        free_free: true,
+        first_elastic_omega: 100.0,
+    };
+    let hung = |nodes: Vec<u32>| springs::suspension(&ctx, nodes, frfup_parsers::deck::DeckDof::Z);
+    assert_eq!(placement_penalty(&hung(vec![1, 5]), &d), 0);
+    assert_eq!(placement_penalty(&hung(vec![1, 4]), &d), 1);
+    assert_eq!(placement_penalty(&hung(vec![2, 4]), &d), 2);
+    let sensor = &masses::sensor_mass(&ctx)[0];
+    assert_eq!(placement_penalty(sensor, &d), 0);
+    let added = masses::added_mass(&ctx);
+    assert!(added.iter().all(|h| placement_penalty(h, &d) == 1));
+    assert_eq!(added.len(), 3, "nodes 1, 3, 5 carry no sensor");
+}
