@@ -3,7 +3,8 @@
 //! Each candidate's parameter is fitted on all data (log grid, then golden
 //! section on the damping-profiled cost), then validated by blocked
 //! cross-validation: fit on alternate frequency blocks (8 blocks, 2 folds)
-//! and on alternate channels (2 folds), predict the held-out data. A
+//! and on alternate channels of each direction (2 folds), predict the
+//! held-out data. A
 //! candidate is accepted if its mean validation cost is lower than the
 //! current model's by more than the margin 3 %·V + 0.1·J0 (J0: noise level),
 //! its fit does not end on a bound and its uncertainty is below its value.
@@ -50,12 +51,40 @@ pub fn folds(data: &TestData) -> Vec<(Mask, Mask)> {
         let val = train.complement();
         out.push((train, val));
     }
+    // Channels alternate between the folds. If one side would hold no
+    // weighted line (a plane frame's axial channels, below the noise floor,
+    // in every other place), they alternate within each direction among the
+    // channels with weighted lines instead.
     let nc = data.channels.len();
-    if nc >= 4 {
+    let live: Vec<bool> = (0..nc)
+        .map(|c| data.weight[c].iter().any(|w| *w > 0.0))
+        .collect();
+    let by_index: Vec<usize> = (0..nc).collect();
+    let both_live = (0..2).all(|p| (0..nc).any(|c| live[c] && by_index[c] % 2 == p));
+    let rank: Vec<usize> = if both_live {
+        by_index
+    } else {
+        (0..nc)
+            .map(|c| {
+                let d = data.channels[c].direction;
+                (0..c)
+                    .filter(|&b| live[b] && data.channels[b].direction == d)
+                    .count()
+            })
+            .collect()
+    };
+    let enough = if both_live {
+        nc >= 4
+    } else {
+        live.iter().filter(|l| **l).count() >= 4
+    };
+    if enough {
         for parity in 0..2 {
             let train = Mask {
                 lines: all.lines.clone(),
-                channels: (0..nc).map(|c| c % 2 == parity).collect(),
+                channels: (0..nc)
+                    .map(|c| rank[c] % 2 == parity && (both_live || live[c]))
+                    .collect(),
             };
             let val = train.complement();
             out.push((train, val));
