@@ -69,7 +69,7 @@ impl Default for DiagnoseOptions {
             skip_update: false,
             max_findings: 4,
             fitted_per_round: 8,
-            evaluation_budget: 6000,
+            evaluation_budget: 4000,
         }
     }
 }
