@@ -1,7 +1,8 @@
 //! The greedy search from one starting deck (steps 2–4): choose the damping
 //! form, then round after round fit and validate candidate extensions
 //! ([`search_round`]) and accept the one that predicts held-out data
-//! best by more than the margin, or a pair fitted jointly when two effects
+//! best by more than the margin (of candidates tied with it, the one the
+//! placement prior names: [`prior`]), or a pair fitted jointly when two effects
 //! mask each other; after each acceptance the earlier extensions are
 //! re-estimated jointly and the damping form is chosen again. The search
 //! stops at the noise level, at `max_findings`, when the evaluation budget
@@ -98,7 +99,8 @@ impl Greedy {
 
     /// Accept what round `round` (0-based) found, if anything: a pair fitted
     /// jointly when it predicts better than the best single candidate, else
-    /// that candidate. Returns false when nothing was accepted.
+    /// that candidate, or the one tied with it that the placement prior
+    /// names. Returns false when nothing was accepted.
     /// `pairs`: the budget allows a pair search.
     fn take_round(&mut self, search: &Search, round: usize, step: Round, pairs: bool) -> bool {
         let (engine, opts, j0) = (search.engine, search.opts, search.j0);
@@ -123,7 +125,7 @@ impl Greedy {
                 None
             };
         let v_single = scored.first().map_or(self.v, |s| s.2);
-        prefer_by_prior(&mut scored, m, &self.base);
+        prefer_by_prior(&mut scored, j0, &self.base);
         if let Some(p) = pair.filter(|p| p.v < v_single - select::margin(v_single, j0)) {
             self.accept_pair(round, p, &scored);
             return true;
@@ -381,24 +383,21 @@ impl Greedy {
     }
 }
 
-/// `start` with the accepted extensions at their values.
-/// Among the candidates within the margin `m` of the best validation error
-/// (`scored` ascending), the one with the fewest free choices of place
-/// ([`prior::placement_penalty`]) is moved to the front; ties keep the
-/// lowest validation error.
-fn prefer_by_prior(scored: &mut [(Hypothesis, HypFit, f64)], m: f64, deck: &Deck) {
-    let Some(best_v) = scored.first().map(|s| s.2) else {
+/// The candidate the placement prior names among those tied with the best
+/// (`scored` ascending by validation error; margin of the best's error,
+/// [`select::margin`]) is moved to the front ([`prior::tie_pick`]).
+fn prefer_by_prior(scored: &mut [(Hypothesis, HypFit, f64)], j0: f64, deck: &Deck) {
+    let ranked: Vec<(usize, f64)> = scored
+        .iter()
+        .map(|s| (prior::placement_penalty(&s.0, deck), s.2))
+        .collect();
+    let Some(pick) = prior::tie_pick(&ranked, |v| select::margin(v, j0)) else {
         return;
     };
-    let pick = scored
-        .iter()
-        .enumerate()
-        .take_while(|(_, s)| s.2 < best_v + m)
-        .min_by_key(|(i, s)| (prior::placement_penalty(&s.0, deck), *i))
-        .map_or(0, |(i, _)| i);
     scored[..=pick].rotate_right(1);
 }
 
+/// `start` with the accepted extensions at their values.
 fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
     accepted
         .iter()

@@ -439,12 +439,11 @@ fn fit_in_full(
 }
 
 /// The deck's own parameters may have absorbed part of the missing effect
-/// in the update: the three best candidates with a parameter, the best of
-/// each class, and every
-/// candidate without one (shear deformation), are fitted again with them
-/// free (decks with one to six parameters; on models over 200 DOFs the two
-/// best with a parameter), and the candidates named in `always` besides,
-/// kept where the cost falls.
+/// in the update: the three best candidates with a parameter (two on models
+/// over 200 DOFs), the best of each class besides, every candidate without
+/// a parameter (shear deformation) and those named in `always` are fitted
+/// again with them free (decks with one to six parameters), kept where the
+/// cost falls.
 fn refit_with_deck_parameters(
     engine: &Engine,
     cur: &Current,
@@ -462,7 +461,9 @@ fn refit_with_deck_parameters(
         // The best of each class is refitted too: a class whose fit on the
         // distorted deck is poor would otherwise never compete.
         let first_of_class = !classes.contains(&h.physics);
-        classes.push(h.physics);
+        if first_of_class {
+            classes.push(h.physics);
+        }
         let g = if h.param.is_none() {
             joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
         } else if forced || first_of_class || with_param < if cur.large { 2 } else { 3 } {

@@ -3,9 +3,8 @@
 //! Each candidate's parameter is fitted on all data (log grid, then golden
 //! section on the damping-profiled cost), then validated by blocked
 //! cross-validation: fit on alternate frequency blocks (8 blocks, 2 folds)
-//! and on alternate channels of each direction (2 folds), predict the
-//! held-out data. A
-//! candidate is accepted if its mean validation cost is lower than the
+//! and on alternate channels (2 folds, [`folds`]), predict the held-out
+//! data. A candidate is accepted if its mean validation cost is lower than the
 //! current model's by more than the margin 3 %·V + 0.1·J0 (J0: noise level),
 //! its fit does not end on a bound and its uncertainty is below its value.
 //! Extensions are added greedily; the search stops when the cost is within
@@ -51,28 +50,11 @@ pub fn folds(data: &TestData) -> Vec<(Mask, Mask)> {
         let val = train.complement();
         out.push((train, val));
     }
-    // Channels alternate between the folds. If one side would hold no
-    // weighted line (a plane frame's axial channels, below the noise floor,
-    // in every other place), they alternate within each direction among the
-    // channels with weighted lines instead.
     let nc = data.channels.len();
     let live: Vec<bool> = (0..nc)
         .map(|c| data.weight[c].iter().any(|w| *w > 0.0))
         .collect();
-    let by_index: Vec<usize> = (0..nc).collect();
-    let both_live = (0..2).all(|p| (0..nc).any(|c| live[c] && by_index[c] % 2 == p));
-    let rank: Vec<usize> = if both_live {
-        by_index
-    } else {
-        (0..nc)
-            .map(|c| {
-                let d = data.channels[c].direction;
-                (0..c)
-                    .filter(|&b| live[b] && data.channels[b].direction == d)
-                    .count()
-            })
-            .collect()
-    };
+    let (rank, both_live) = channel_ranks(data, &live);
     let enough = if both_live {
         nc >= 4
     } else {
@@ -91,6 +73,36 @@ pub fn folds(data: &TestData) -> Vec<(Mask, Mask)> {
         }
     }
     out
+}
+
+/// The rank of each channel whose parity picks its channel fold, and
+/// whether both sides hold weighted channels by index alone. Channels
+/// alternate by index; if one side would hold no weighted line (a plane
+/// frame's axial channels, below the noise floor, in every other place),
+/// the weighted channels alternate within each direction instead, or
+/// among themselves if that still leaves a side empty.
+fn channel_ranks(data: &TestData, live: &[bool]) -> (Vec<usize>, bool) {
+    let nc = live.len();
+    let both_sides = |rank: &[usize]| (0..2).all(|p| (0..nc).any(|c| live[c] && rank[c] % 2 == p));
+    let by_index: Vec<usize> = (0..nc).collect();
+    if both_sides(&by_index) {
+        return (by_index, true);
+    }
+    let direction = |c: usize| data.channels[c].direction.abs();
+    let within: Vec<usize> = (0..nc)
+        .map(|c| {
+            (0..c)
+                .filter(|&b| live[b] && direction(b) == direction(c))
+                .count()
+        })
+        .collect();
+    if both_sides(&within) {
+        return (within, false);
+    }
+    let among: Vec<usize> = (0..nc)
+        .map(|c| (0..c).filter(|&b| live[b]).count())
+        .collect();
+    (among, false)
 }
 
 /// How the log parameter ln θ of a hypothesis is searched: `grid` evenly

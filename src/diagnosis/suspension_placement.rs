@@ -19,7 +19,7 @@
 //! the full FRF fit of the round, which also sees the springs' small effect
 //! on the elastic modes: sets alike in their rigid-body effect (two nodes
 //! above one another under vertical springs) are told apart there, or not
-//! at all.
+//! at all; then the set hung from hard points wins ([`OFF_HARD_POINT`]).
 
 use frfup_parsers::deck::DeckDof;
 use nalgebra::{DMatrix, SymmetricEigen};

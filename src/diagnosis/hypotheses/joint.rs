@@ -4,7 +4,10 @@
 
 use frfup_parsers::deck::DeckDof;
 
-use super::{beam_direction, stiffness_scale, Context, Extension, Hypothesis, ParamSpec, Physics};
+use super::{
+    beam_direction, stiffness_scale, Context, Extension, Hypothesis, ParamSpec, Physics,
+    STRAIGHT_ON,
+};
 
 /// One hypothesis per joint node and rotational DOF.
 pub fn joint_flexibility(ctx: &Context) -> Vec<Hypothesis> {
@@ -28,7 +31,7 @@ pub fn joint_flexibility(ctx: &Context) -> Vec<Hypothesis> {
                 i == 0 || {
                     let d = dirs[i];
                     let c = d[0] * dirs[0][0] + d[1] * dirs[0][1] + d[2] * dirs[0][2];
-                    c < -0.95
+                    c < -STRAIGHT_ON
                 }
             })
             .collect();

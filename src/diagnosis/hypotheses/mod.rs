@@ -267,6 +267,10 @@ pub fn stiffness_scale(deck: &Deck, node: u32, dof: DeckDof) -> f64 {
     }
 }
 
+/// Two beams from a node whose directions have a cosine below minus this
+/// run straight on through it (one member); otherwise the node is a corner.
+pub const STRAIGHT_ON: f64 = 0.95;
+
 /// Unit vector of a beam from `node` to its other end.
 pub fn beam_direction(
     deck: &Deck,

@@ -14,12 +14,11 @@ use std::collections::BTreeMap;
 
 use frfup_parsers::deck::Deck;
 
-use super::{beam_direction, Extension, Hypothesis, Physics};
+use super::{beam_direction, Extension, Hypothesis, Physics, STRAIGHT_ON};
 
-/// Directions closer than this (cosine) make a straight run through a node.
-const STRAIGHT: f64 = 0.985;
-
-/// Free choices of place `h` makes on `deck` (0: none).
+/// Free choices of place `h` makes on `deck` (0: none). A support's
+/// flexibility sits at a support the deck names, damping and shear
+/// deformation everywhere, the sensor masses on every sensor: none.
 pub fn placement_penalty(h: &Hypothesis, deck: &Deck) -> usize {
     match h.physics {
         Physics::AddedMass | Physics::JointFlexibility => 1,
@@ -47,7 +46,7 @@ pub fn hard_points(deck: &Deck) -> Vec<u32> {
             [a, b] => {
                 match (beam_direction(deck, a, *n), beam_direction(deck, b, *n)) {
                     // Straight through: the two directions opposite.
-                    (Some(u), Some(v)) => -(u[0] * v[0] + u[1] * v[1] + u[2] * v[2]) < STRAIGHT,
+                    (Some(u), Some(v)) => u[0] * v[0] + u[1] * v[1] + u[2] * v[2] >= -STRAIGHT_ON,
                     _ => true,
                 }
             }
@@ -55,4 +54,19 @@ pub fn hard_points(deck: &Deck) -> Vec<u32> {
         })
         .map(|(n, _)| n)
         .collect()
+}
+
+/// Of `ranked` (placement penalty, validation error; ascending by error),
+/// the index of the candidate with the smallest penalty among those within
+/// `margin(best error)` of the best, the lowest error breaking ties; `None`
+/// when empty.
+pub fn tie_pick(ranked: &[(usize, f64)], margin: impl Fn(f64) -> f64) -> Option<usize> {
+    let best = ranked.first()?.1;
+    let window = best + margin(best);
+    ranked
+        .iter()
+        .enumerate()
+        .take_while(|(i, r)| *i == 0 || r.1 < window)
+        .min_by_key(|(i, r)| (r.0, *i))
+        .map(|(i, _)| i)
 }

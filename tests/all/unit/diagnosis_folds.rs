@@ -62,3 +62,27 @@ fn no_empty_fold(mut data: TestData) {
         assert!(weighted(&data, val) > 0, "a validation mask without data");
     }
 }
+
+#[test]
+fn weighted_channels_in_as_many_directions_as_there_are_still_fill_both_sides() {
+    // Four weighted channels, all at odd places, each in its own direction
+    // (signed codes: -4 and 4 are one direction): alternation within each
+    // direction would put all four on one side.
+    let mut data = data("fixtures/garteur/campaign.uff");
+    let nc = data.channels.len();
+    let kept = [1usize, 3, 5, 7];
+    for c in 0..nc {
+        if !kept.contains(&c) {
+            data.weight[c].iter_mut().for_each(|w| *w = 0.0);
+        }
+    }
+    for (c, d) in kept.iter().zip([1, 2, 3, -4]) {
+        data.channels[*c].direction = d;
+    }
+    let f = folds(&data);
+    assert_eq!(f.len(), 4);
+    for (train, val) in &f {
+        assert!(weighted(&data, train) > 0, "a training mask without data");
+        assert!(weighted(&data, val) > 0, "a validation mask without data");
+    }
+}

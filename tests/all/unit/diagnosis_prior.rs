@@ -2,7 +2,7 @@
 //! hard points from the deck's geometry, and the free choices of place a
 //! candidate makes.
 
-use frfup::diagnosis::hypotheses::prior::{hard_points, placement_penalty};
+use frfup::diagnosis::hypotheses::prior::{hard_points, placement_penalty, tie_pick};
 use frfup::diagnosis::hypotheses::{masses, springs, Context};
 use frfup_parsers::deck::Deck;
 
@@ -38,6 +38,34 @@ fn springs_along_a_member_and_a_mass_at_any_node_cost_a_choice() {
     let sensor = &masses::sensor_mass(&ctx)[0];
     assert_eq!(placement_penalty(sensor, &d), 0);
     let added = masses::added_mass(&ctx);
-    assert!(added.iter().all(|h| placement_penalty(h, &d) == 1));
-    assert_eq!(added.len(), 3, "nodes 1, 3, 5 carry no sensor");
+    assert!(!added.is_empty() && added.iter().all(|h| placement_penalty(h, &d) == 1));
+}
+
+#[test]
+fn a_junction_of_three_members_is_a_hard_point() {
+    // A T: node 2 joins a straight run 1-2-3 and a branch 2-4; 5 is midway
+    // along the branch.
+    let t = deck(
+        "analysis plane\n\
+        material m E=2.1e11 nu=0.3 rho=7850\n\
+        section s A=1e-4 Iy=1e-9 Iz=1e-9 J=2e-9\n\
+        node 1 0 0 0\nnode 2 1 0 0\nnode 3 2 0 0\nnode 5 1 0 0.5\nnode 4 1 0 1\n\
+        beam 1 1 2 m s\nbeam 2 2 3 m s\nbeam 3 2 5 m s\nbeam 4 5 4 m s\n",
+    );
+    assert_eq!(hard_points(&t), vec![1, 2, 3, 4]);
+}
+
+#[test]
+fn the_tie_goes_to_the_fewest_choices_within_the_best_margin() {
+    let margin = |v: f64| 0.1 * v;
+    // (penalty, validation error), ascending by error.
+    assert_eq!(tie_pick(&[], margin), None);
+    assert_eq!(tie_pick(&[(1, 2.0)], margin), Some(0));
+    // 2.15 is within 2.0 + 0.2; 2.25 is not, although its penalty is 0.
+    assert_eq!(tie_pick(&[(1, 2.0), (0, 2.15), (0, 2.25)], margin), Some(1));
+    assert_eq!(tie_pick(&[(1, 2.0), (1, 2.1), (0, 2.25)], margin), Some(0));
+    // Equal penalties: the lowest error.
+    assert_eq!(tie_pick(&[(0, 2.0), (0, 2.1)], margin), Some(0));
+    // A non-finite best keeps the order.
+    assert_eq!(tie_pick(&[(1, f64::NAN), (0, 2.0)], margin), Some(0));
 }
