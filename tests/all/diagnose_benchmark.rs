@@ -218,3 +218,29 @@ fn a_roving_hammer_campaign_is_named_as_such_when_read() {
     );
     assert!(loaded.notes.iter().all(|n| !n.contains("references:")));
 }
+
+/// Case 96 of the full benchmark (seed 1): a 0.0338 kg sensor mass on the
+/// one accelerometer (node 44) of a roving-hammer test on a beam whose
+/// lumped mass and density are also off. The update puts part of the sensor
+/// mass into the lumped mass (−16 %); on that deck the sensor mass alone
+/// fits 0.0026 kg and an added mass three nodes away fitted best, until the
+/// best candidate of each class was refitted with the deck's parameters.
+#[test]
+fn a_sensor_mass_the_update_absorbed_is_found_at_its_sensor() {
+    let c = generate_diagnosis(case_seed(1, 96), &GenOptions::diagnosis()).unwrap();
+    let model = deck::parse(&c.model_deck).unwrap();
+    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
+    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
+    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
+    let s = score_diagnosis(&c.truth_json(), &model, Some(&diagnosis_json(&d)));
+    assert_eq!(
+        s.reported,
+        vec![("sensor-mass".to_string(), vec![44])],
+        "{:?}",
+        s.reported
+    );
+    // Within the benchmark's 20 % (measured: 0.03358 kg against 0.0338).
+    assert_eq!(s.effects[0].value_ok, Some(true), "{:?}", s.effects[0]);
+    let r = s.effects[0].value_ratio.unwrap();
+    assert!((r - 1.0).abs() < 0.03, "fitted / true mass {r}");
+}
