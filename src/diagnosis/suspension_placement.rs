@@ -75,9 +75,17 @@ pub fn test_suspension_modes(
 }
 
 /// The test's modes by the identification of the update and `identify`.
+/// On the whole record's even axis; `line` indexes `data.lines_hz`.
 pub fn identified_modes(data: &TestData) -> Vec<ColumnMode> {
-    crate::identification::identify_column(&data.lines_hz, data.kind, &data.values)
-        .unwrap_or_default()
+    let (lines_hz, values) = data.whole_record();
+    let mut modes =
+        crate::identification::identify_column(lines_hz, data.kind, values).unwrap_or_default();
+    if data.record.is_some() {
+        for m in &mut modes {
+            m.line = crate::updating::frequencies::nearest_line(&data.lines_hz, m.frequency_hz);
+        }
+    }
+    modes
 }
 
 /// One placement: the nodes, the direction, k fitted to the frequencies

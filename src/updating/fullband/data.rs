@@ -2,6 +2,8 @@
 //! on test node/direction pairs, a noise estimate per channel and the lines
 //! that stand above the noise floor.
 
+use std::sync::Arc;
+
 use faer::c64;
 
 use super::FitError as DiagnoseError;
@@ -44,6 +46,18 @@ pub struct TestData {
     /// roving-hammer row used as a column by reciprocity: the channels are
     /// the hammer's points, the one accelerometer is at `input`).
     pub sensor_at_input: bool,
+    /// The whole record when `lines_hz` holds only its informative lines
+    /// (more than [`super::lines::LINE_BUDGET`] lines): the identification
+    /// needs its even axis.
+    pub record: Option<Arc<Record>>,
+}
+
+/// A whole measured record: its lines (Hz, ascending, > 0) and values
+/// (`[channel][line]`, measured kind, SI units), channels as in [`TestData`].
+#[derive(Clone, Debug)]
+pub struct Record {
+    pub lines_hz: Vec<f64>,
+    pub values: Vec<Vec<c64>>,
 }
 
 /// Model tolerance floor of the relative error (1 %): keeps the sharpest
@@ -79,7 +93,7 @@ impl TestData {
             ));
         }
         let lines_hz: Vec<f64> = keep.iter().map(|&i| test.frequencies_hz[i]).collect();
-        let omegas = lines_hz
+        let omegas: Vec<f64> = lines_hz
             .iter()
             .map(|f| 2.0 * std::f64::consts::PI * f)
             .collect();
@@ -114,15 +128,37 @@ impl TestData {
             });
             values.push(v);
         }
+        // Noise and resonances on the whole record (its even axis); the
+        // fit on its informative lines.
         let sigma: Vec<f64> = values.iter().map(|v| noise_sigma(v)).collect();
-        let (weight, noise_r2) = weights(&values, &sigma);
-        let peaks = pick_peaks(
+        let mut peaks = pick_peaks(
             &lines_hz,
             &indicator(&values),
             &PeakOptions {
                 min_prominence: 2.0,
             },
         );
+        let keep = super::lines::informative_lines(&lines_hz, &peaks);
+        let (lines_hz, omegas, values, record) = if keep.len() < lines_hz.len() {
+            let pick = |v: &[f64]| keep.iter().map(|&i| v[i]).collect::<Vec<f64>>();
+            let thin: Vec<Vec<c64>> = values
+                .iter()
+                .map(|v| keep.iter().map(|&i| v[i]).collect())
+                .collect();
+            for r in &mut peaks {
+                r.line = keep.partition_point(|&i| i < r.line);
+            }
+            let record = Record { lines_hz, values };
+            (
+                pick(&record.lines_hz),
+                pick(&omegas),
+                thin,
+                Some(Arc::new(record)),
+            )
+        } else {
+            (lines_hz, omegas, values, None)
+        };
+        let (weight, noise_r2) = weights(&values, &sigma);
         Ok(TestData {
             lines_hz,
             omegas,
@@ -135,7 +171,17 @@ impl TestData {
             input,
             resonances: peaks,
             sensor_at_input: false,
+            record,
         })
+    }
+
+    /// The lines and values of the whole record (the identification's
+    /// even axis): the record kept beside thinned lines, else these.
+    pub fn whole_record(&self) -> (&[f64], &[Vec<c64>]) {
+        match &self.record {
+            Some(r) => (&r.lines_hz, &r.values),
+            None => (&self.lines_hz, &self.values),
+        }
     }
 
     /// Test nodes that carry a sensor: the channels' nodes, or the
@@ -207,6 +253,14 @@ impl TestData {
             i += 1;
             keep[i - 1]
         });
+        if let Some(r) = &mut self.record {
+            let r = Arc::make_mut(r);
+            let mut i = 0;
+            r.values.retain(|_| {
+                i += 1;
+                keep[i - 1]
+            });
+        }
         let (w, n) = weights(&self.values, &self.sigma);
         self.weight = w;
         self.noise_r2 = n;

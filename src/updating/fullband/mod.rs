@@ -1,6 +1,7 @@
 //! The full-band FRF fit: every line and channel above the noise floor,
 //! weighted log-magnitude and phase residuals, damping identified along.
-//! [`data`] prepares the measured FRFs (noise per channel, weights),
+//! [`data`] prepares the measured FRFs (noise per channel, weights; a long
+//! record thinned to its informative [`lines`]),
 //! [`fit`] predicts model FRFs by modal superposition and fits a few
 //! parameters by bounded Levenberg–Marquardt, and [`estimate`] is the final
 //! stage of `frfup update`: the deck's parameters by maximum a posteriori
@@ -12,6 +13,7 @@ pub mod data;
 pub mod estimate;
 pub mod fit;
 pub mod jacobian;
+pub mod lines;
 pub mod lm;
 pub mod objective;
 pub mod prior;

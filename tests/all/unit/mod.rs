@@ -38,6 +38,7 @@ mod testdata_layout;
 mod updating_correlation;
 mod updating_frequencies;
 mod updating_fullband_jacobian;
+mod updating_fullband_lines;
 mod updating_fullband_lm;
 mod updating_fullband_reduced;
 mod updating_identify;
