@@ -552,3 +552,46 @@ fn the_tests_own_damping_ratios_confirm_or_refute_a_decks_damping() {
     assert!((wrong - 1.5f64.ln()).abs() <= 0.005, "{wrong}");
     assert!(identified_disagreement(&test, Damping::None).is_none());
 }
+
+/// A long record (20,000 lines of 0.02 Hz, 2–400 Hz; sensors at 3, 5, 7, 9,
+/// exciter at 9, 1 % noise) of the sensor-mass cantilever: fitted on its
+/// informative lines, checked by the identification on the whole record,
+/// and the same finding as on the fixture's 600 lines, held to the same
+/// tolerance ([`assert_fitted`]).
+#[test]
+fn a_long_record_is_fitted_on_its_informative_lines() {
+    use frfup::simulate::{simulate, Band, Campaign, NodeDirection, Sensors};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/diagnose");
+    let read = |f: &str| {
+        frfup::parsers::deck::parse(&std::fs::read_to_string(dir.join(f)).unwrap()).unwrap()
+    };
+    let (deck, truth) = (read("sensor_mass.deck"), read("sensor_mass.truth.deck"));
+    let at = |node| NodeDirection { node, direction: 3 };
+    let campaign = Campaign {
+        input: at(9),
+        band: Band {
+            start_hz: 2.0,
+            end_hz: 400.0,
+            count: 20_000,
+        },
+        lines_hz: None,
+        response: None,
+        output: frfup::testdata::FrfKind::Accelerance,
+        sensors: Sensors::List(vec![at(3), at(5), at(7), at(9)]),
+        noise: 0.01,
+        seed: 7,
+    };
+    let test = simulate(&truth, &Default::default(), &campaign).unwrap();
+    let t = std::time::Instant::now();
+    let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    assert!(d.data.record.is_some(), "the record was not thinned");
+    assert!(
+        d.data.lines_hz.len() < 3_000,
+        "{} lines fitted",
+        d.data.lines_hz.len()
+    );
+    let f = the_one(&d, "sensor-mass", &[3, 5, 7, 9], &[]);
+    println!("long record diagnosed in {secs:.1} s: {:?}", f.parameters);
+    assert_fitted(f, "m", 0.025);
+}

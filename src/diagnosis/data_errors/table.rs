@@ -3,7 +3,8 @@
 //!
 //! Test modes come from the multi-channel pole fit
 //! ([`crate::updating::identify::identify_modes`]) on the receptance of the
-//! live channels: a real shape s_k(c) per mode (largest magnitude 1), signed
+//! live channels (on a long record, from [`identify_column`] on the whole
+//! record): a real shape s_k(c) per mode (largest magnitude 1), signed
 //! as the modal constants φ_c,k φ_in,k. The deck's modal constants are
 //! a_r(c) = φ_c,r φ_in,r ([`ModalModel::coeff`]). Both are free of the
 //! arbitrary sign of a mode shape, so measured and predicted constants of a
@@ -21,6 +22,7 @@
 
 use super::super::data::TestData;
 use super::super::fit::ModalModel;
+use crate::identification::{identify_column, ColumnMode};
 use crate::testdata::i_omega_power;
 use crate::updating::frequencies::indicator;
 use crate::updating::identify::{identify_modes, IdentifyOptions};
@@ -53,27 +55,40 @@ pub struct Paired {
     pub frequencies_hz: Vec<(f64, f64)>,
 }
 
+/// The test's modes at channels `idx`: by the per-band pole fit on the
+/// receptance, or, on a long record fitted on its informative lines, by
+/// [`identify_column`] on the whole record (the pole fit's bands span
+/// ±6 % of f, thousands of lines each on a fine axis: minutes per record).
+fn test_modes(data: &TestData, idx: &[usize]) -> Vec<ColumnMode> {
+    if data.record.is_some() {
+        let (lines_hz, values) = data.whole_record();
+        let values: Vec<Vec<_>> = idx.iter().map(|&c| values[c].clone()).collect();
+        return identify_column(lines_hz, data.kind, &values).unwrap_or_default();
+    }
+    let values: Vec<Vec<_>> = idx.iter().map(|&c| data.values[c].clone()).collect();
+    let receptance: Vec<Vec<_>> = values
+        .iter()
+        .map(|v| {
+            v.iter()
+                .zip(&data.omegas)
+                .map(|(h, &w)| h / i_omega_power(w, data.kind.order()))
+                .collect()
+        })
+        .collect();
+    identify_modes(
+        &data.lines_hz,
+        &receptance,
+        &indicator(&values),
+        &IdentifyOptions::default(),
+    )
+}
+
 impl ModalTable {
     /// Identify the test's modes on the `live` channels of `data` and take
     /// the modes of `mm` that may pair with them.
     pub fn new(data: &TestData, live: &[bool], mm: &ModalModel) -> ModalTable {
         let idx: Vec<usize> = (0..data.channels.len()).filter(|&c| live[c]).collect();
-        let values: Vec<Vec<_>> = idx.iter().map(|&c| data.values[c].clone()).collect();
-        let receptance: Vec<Vec<_>> = values
-            .iter()
-            .map(|v| {
-                v.iter()
-                    .zip(&data.omegas)
-                    .map(|(h, &w)| h / i_omega_power(w, data.kind.order()))
-                    .collect()
-            })
-            .collect();
-        let modes = identify_modes(
-            &data.lines_hz,
-            &receptance,
-            &indicator(&values),
-            &IdentifyOptions::default(),
-        );
+        let modes = test_modes(data, &idx);
         let nc = data.channels.len();
         let test = modes
             .iter()
