@@ -109,7 +109,7 @@ fn a_long_record_keeps_its_resonances_and_a_sparse_background() {
         assert_eq!(near.len(), 6, "lines near {f} Hz");
         for x in near {
             assert!(
-                data.lines_hz.iter().any(|&y| y == x),
+                data.lines_hz.contains(&x),
                 "line {x} Hz beside the resonance at {f} Hz dropped"
             );
         }
