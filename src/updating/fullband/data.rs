@@ -238,33 +238,22 @@ impl TestData {
 
     /// Drop channels (by index) that the model cannot place.
     pub fn retain_channels(&mut self, keep: &[bool]) {
-        let mut i = 0;
-        self.channels.retain(|_| {
-            i += 1;
-            keep[i - 1]
-        });
-        let mut i = 0;
-        self.values.retain(|_| {
-            i += 1;
-            keep[i - 1]
-        });
-        let mut i = 0;
-        self.sigma.retain(|_| {
-            i += 1;
-            keep[i - 1]
-        });
+        retain_flagged(&mut self.channels, keep);
+        retain_flagged(&mut self.values, keep);
+        retain_flagged(&mut self.sigma, keep);
         if let Some(r) = &mut self.record {
-            let r = Arc::make_mut(r);
-            let mut i = 0;
-            r.values.retain(|_| {
-                i += 1;
-                keep[i - 1]
-            });
+            retain_flagged(&mut Arc::make_mut(r).values, keep);
         }
         let (w, n) = weights(&self.values, &self.sigma);
         self.weight = w;
         self.noise_r2 = n;
     }
+}
+
+/// Keep the items of `v` whose flag in `keep` is set.
+fn retain_flagged<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut flags = keep.iter();
+    v.retain(|_| flags.next().copied().unwrap_or(false));
 }
 
 fn noise_sigma(v: &[c64]) -> f64 {
