@@ -272,3 +272,61 @@ fn a_channel_of_noise_only_is_found_dead() {
         },
     );
 }
+
+/// The cantilever control (z channels at 3, 5, 7, 9, driven at 9+z) with an
+/// axial channel at 9+x added: the deck predicts it silent (a straight beam
+/// driven across its axis does not stretch), so it holds noise. σ is the
+/// noise added to the silent channel and to a dead one: 1 % of the driving
+/// point's RMS, under its resonances by a factor of hundreds.
+fn with_axial_channel() -> (MeasuredFrfs, f64) {
+    let (_, mut test) = load("control_beam");
+    let v = &test.channels[3].values;
+    let rms = (v.iter().map(|z| z.norm_sqr()).sum::<f64>() / v.len() as f64).sqrt();
+    let sigma = 0.01 * rms;
+    let mut axial = test.channels[3].clone();
+    axial.response_direction = 1;
+    axial.values = noise(v.len(), sigma, 7);
+    test.channels.push(axial);
+    (test, sigma)
+}
+
+fn check_own(test: &MeasuredFrfs) -> Vec<DataError> {
+    let (deck, _) = load("control_beam");
+    let data = TestData::new(test).unwrap();
+    check(&data, &modal_model(&deck, &data).unwrap())
+}
+
+#[test]
+fn a_dead_channel_whose_data_sit_at_a_silent_sensor_is_a_swap() {
+    let (clean, sigma) = with_axial_channel();
+    // Clean, the silent channel is no error: it holds what the deck predicts.
+    assert!(check_own(&clean).is_empty(), "{:?}", check_own(&clean));
+    // The 5+z cable in the 9+x socket and back: 5+z holds the axial noise,
+    // 9+x the bending response.
+    let mut swapped = clean.clone();
+    let (d, c) = (1, 4);
+    swapped.channels[d].values = clean.channels[c].values.clone();
+    swapped.channels[c].values = clean.channels[d].values.clone();
+    let found = check_own(&swapped);
+    assert_eq!(
+        found,
+        vec![
+            DataError {
+                channel: d,
+                kind: DataErrorKind::Swapped { other: c }
+            },
+            DataError {
+                channel: c,
+                kind: DataErrorKind::Swapped { other: d }
+            },
+        ]
+    );
+    // 5+z dead while 9+x stays silent: dead, not swapped (no channel holds
+    // the response the deck predicts at 5+z).
+    let mut dead = clean.clone();
+    dead.channels[d].values = noise(clean.channels[d].values.len(), sigma, 11);
+    let found = check_own(&dead);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].channel, d);
+    assert!(matches!(found[0].kind, DataErrorKind::Dead { .. }));
+}

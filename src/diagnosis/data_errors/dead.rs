@@ -35,6 +35,15 @@ pub const CLEAR: f64 = 50.0;
 /// uncouples from the excitation: its noise floor is round-off).
 pub const AT_ALL: f64 = 1e-3;
 
+/// A channel the deck predicts silent holds a response when its
+/// signal-to-noise ratio reaches this while the deck predicts under
+/// [`DEAD_SNR`] there.
+pub const LOUD_SNR: f64 = 20.0;
+/// Largest factor between the level of a loud channel's data and the
+/// level the deck predicts at a dead channel for the two to be one swap
+/// (the factor 3 the modal checks allow a deck that is off).
+pub const LEVEL_MATCH: f64 = 3.0;
+
 /// Signal-to-noise ratio of each channel.
 pub fn snr(data: &TestData) -> Vec<f64> {
     data.values
@@ -131,4 +140,70 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
         return Vec::new();
     }
     dead
+}
+
+/// Dead channels whose data sit at another sensor's place: a channel d
+/// holds noise where the deck predicts a response, while a channel c
+/// holds a clear response (signal-to-noise ratio ≥ [`LOUD_SNR`]) where
+/// the deck predicts nothing above its noise (a y sensor's cable in the z
+/// sensor's socket on a beam bent in y). When the level of c's data (99th
+/// percentile of |H|) is within [`LEVEL_MATCH`] of the level the deck
+/// predicts at d, the two channels are swapped, not d dead: each holds
+/// what the deck predicts at the other. Of several such c, the closest in
+/// level; each channel in one pair. The dead errors of `errors` so
+/// explained become a swapped pair.
+pub fn swaps_with_silent(
+    data: &TestData,
+    mm: &ModalModel,
+    errors: Vec<DataError>,
+) -> Vec<DataError> {
+    let dead: Vec<usize> = errors
+        .iter()
+        .filter(|e| matches!(e.kind, DataErrorKind::Dead { .. }))
+        .map(|e| e.channel)
+        .collect();
+    if dead.is_empty() {
+        return errors;
+    }
+    let snr = snr(data);
+    let expected = predicted_snr(data, mm);
+    let damping = crate::model::Damping::Modal {
+        zeta: data.half_power_zeta(),
+    };
+    let model = super::super::fit::predict(mm, damping, data, &super::super::fit::Mask::all(data));
+    let level = |v: &[faer::c64]| channel_snr(v, 1.0);
+    let mut loud: Vec<usize> = (0..snr.len())
+        .filter(|&c| !dead.contains(&c) && snr[c] >= LOUD_SNR && expected[c] < DEAD_SNR)
+        .collect();
+    let mut out: Vec<DataError> = errors
+        .into_iter()
+        .filter(|e| !matches!(e.kind, DataErrorKind::Dead { .. }))
+        .collect();
+    for d in dead {
+        let want = level(&model[d]);
+        let best = loud
+            .iter()
+            .map(|&c| ((level(&data.values[c]) / want).ln().abs(), c))
+            .filter(|(m, _)| m.is_finite() && *m <= LEVEL_MATCH.ln())
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        match best {
+            Some((_, c)) => {
+                loud.retain(|&x| x != c);
+                out.push(DataError {
+                    channel: d,
+                    kind: DataErrorKind::Swapped { other: c },
+                });
+                out.push(DataError {
+                    channel: c,
+                    kind: DataErrorKind::Swapped { other: d },
+                });
+            }
+            None => out.push(DataError {
+                channel: d,
+                kind: DataErrorKind::Dead { snr: snr[d] },
+            }),
+        }
+    }
+    out.sort_by_key(|e| e.channel);
+    out
 }

@@ -2,7 +2,8 @@
 //! and the deck before the diagnosis trusts it.
 //!
 //! - [`dead`]: a channel that holds noise only, where the deck predicts a
-//!   clear response (`dead-channel`);
+//!   clear response (`dead-channel`), unless a channel the deck predicts
+//!   silent holds that response (then the two are `swapped-channels`);
 //! - [`table`]: the test's modes (the pole fit of
 //!   [`crate::updating::identify`]) paired with the deck's, and per channel
 //!   the ratio of measured to predicted modal constants;
@@ -64,13 +65,14 @@ pub struct DataError {
 /// The data errors of `data` against the deck's modal model `mm` (built at
 /// the same channels), by channel.
 ///
-/// Dead channels first; then, one at a time, the clearest remaining error
+/// Dead channels first (or, where a channel the deck predicts silent holds
+/// what it predicts at the dead one, the two swapped); then, one at a time, the clearest remaining error
 /// (a swapped pair before a sign or scale error) is found and undone in the
 /// table before the next search, so that one wrong channel does not make a
 /// sound one look wrong. More errors than a third of the channels means the
 /// deck, not the channels, disagrees with the test: none is reported then.
 pub fn check(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
-    let mut errors = dead::dead_channels(data, mm);
+    let mut errors = dead::swaps_with_silent(data, mm, dead::dead_channels(data, mm));
     let live: Vec<bool> = (0..data.channels.len())
         .map(|c| !errors.iter().any(|e| e.channel == c))
         .collect();
@@ -132,12 +134,19 @@ pub fn finding(e: &DataError, data: &TestData, before: f64, after: f64) -> Optio
     let mut dofs = vec![ch.label.clone()];
     let mut parameters = BTreeMap::new();
     let (physics, label) = match &e.kind {
-        DataErrorKind::Dead { snr } => (
+        DataErrorKind::Dead { snr } if *snr > 0.0 => (
             Physics::DeadChannel,
             format!(
                 "channel {} holds noise only (99 % of its lines under {} × its noise) where the deck predicts a response; left out",
                 ch.label,
                 super::sig(*snr)
+            ),
+        ),
+        DataErrorKind::Dead { .. } => (
+            Physics::DeadChannel,
+            format!(
+                "channel {} holds zeros only where the deck predicts a response; left out",
+                ch.label
             ),
         ),
         DataErrorKind::Reversed { agreement, over } => (
