@@ -57,8 +57,9 @@ pub struct DiagnoseOptions {
     pub max_findings: usize,
     /// Candidates (after screening) fitted in full per round.
     pub fitted_per_round: usize,
-    /// No new search round starts after this many model solutions in one
-    /// search (each start has its own; a deterministic bound on run time).
+    /// No search round after the second starts once a search has spent
+    /// this many model solutions (each start has its own; a deterministic
+    /// bound on run time; the first two rounds always run).
     pub evaluation_budget: usize,
 }
 
