@@ -189,14 +189,7 @@ pub fn swaps_with_silent(
         match best {
             Some((_, c)) => {
                 loud.retain(|&x| x != c);
-                out.push(DataError {
-                    channel: d,
-                    kind: DataErrorKind::Swapped { other: c },
-                });
-                out.push(DataError {
-                    channel: c,
-                    kind: DataErrorKind::Swapped { other: d },
-                });
+                out.extend(super::swapped_pair(d, c));
             }
             None => out.push(DataError {
                 channel: d,

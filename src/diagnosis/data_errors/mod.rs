@@ -54,6 +54,21 @@ pub enum DataErrorKind {
     Swapped { other: usize },
 }
 
+/// Channels `a` and `b` holding each other's data: the error of each, as
+/// the checks report a swap (once for each channel).
+pub fn swapped_pair(a: usize, b: usize) -> [DataError; 2] {
+    [
+        DataError {
+            channel: a,
+            kind: DataErrorKind::Swapped { other: b },
+        },
+        DataError {
+            channel: b,
+            kind: DataErrorKind::Swapped { other: a },
+        },
+    ]
+}
+
 /// One data error: the channel (index into [`TestData::channels`]) and what
 /// is wrong with it.
 #[derive(Clone, Debug, PartialEq)]

@@ -10,7 +10,7 @@
 
 use super::gains::{effects, Effects, MIN_EVIDENCE};
 use super::table::{ModalTable, Paired};
-use super::{DataError, DataErrorKind};
+use super::DataError;
 
 /// The swapped misfit must be at most this share of the misfit as measured.
 pub const GAIN: f64 = 0.25;
@@ -89,14 +89,7 @@ pub fn swapped_pairs(t: &ModalTable) -> Vec<DataError> {
         }
         used[a] = true;
         used[b] = true;
-        out.push(DataError {
-            channel: a,
-            kind: DataErrorKind::Swapped { other: b },
-        });
-        out.push(DataError {
-            channel: b,
-            kind: DataErrorKind::Swapped { other: a },
-        });
+        out.extend(super::swapped_pair(a, b));
     }
     // Several swaps at once are more likely a deck far from the test.
     if out.len() > 2 {
