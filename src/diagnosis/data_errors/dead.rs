@@ -82,20 +82,30 @@ pub fn predicted_strength(data: &TestData, mm: &ModalModel) -> Vec<f64> {
         .collect()
 }
 
-/// The signal-to-noise ratio the deck predicts at each channel: the 99th
-/// percentile over lines of |H_model,c(l)| / σ_c, the deck's modes damped
-/// at the test's half-power damping ratio, σ_c the channel's measured noise.
-pub fn predicted_snr(data: &TestData, mm: &ModalModel) -> Vec<f64> {
+/// The deck's FRFs at every channel and line of `data`, its modes damped
+/// at the test's half-power damping ratio.
+fn deck_frfs(data: &TestData, mm: &ModalModel) -> Vec<Vec<faer::c64>> {
     let damping = crate::model::Damping::Modal {
         zeta: data.half_power_zeta(),
     };
-    let all = super::super::fit::Mask::all(data);
-    let model = super::super::fit::predict(mm, damping, data, &all);
+    super::super::fit::predict(mm, damping, data, &super::super::fit::Mask::all(data))
+}
+
+/// The signal-to-noise ratio of the deck's FRFs `model` (of
+/// [`deck_frfs`]) at each channel: the 99th percentile over lines of
+/// |H_model,c(l)| / σ_c, σ_c the channel's measured noise.
+fn snr_of(model: &[Vec<faer::c64>], data: &TestData) -> Vec<f64> {
     model
         .iter()
         .zip(&data.sigma)
         .map(|(v, &s)| channel_snr(v, s))
         .collect()
+}
+
+/// The signal-to-noise ratio the deck predicts at each channel
+/// ([`deck_frfs`] against each channel's measured noise).
+pub fn predicted_snr(data: &TestData, mm: &ModalModel) -> Vec<f64> {
+    snr_of(&deck_frfs(data, mm), data)
 }
 
 /// The dead channels of `data`.
@@ -166,11 +176,8 @@ pub fn swaps_with_silent(
         return errors;
     }
     let snr = snr(data);
-    let expected = predicted_snr(data, mm);
-    let damping = crate::model::Damping::Modal {
-        zeta: data.half_power_zeta(),
-    };
-    let model = super::super::fit::predict(mm, damping, data, &super::super::fit::Mask::all(data));
+    let model = deck_frfs(data, mm);
+    let expected = snr_of(&model, data);
     let level = |v: &[faer::c64]| channel_snr(v, 1.0);
     let mut loud: Vec<usize> = (0..snr.len())
         .filter(|&c| !dead.contains(&c) && snr[c] >= LOUD_SNR && expected[c] < DEAD_SNR)

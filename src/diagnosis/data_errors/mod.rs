@@ -81,11 +81,12 @@ pub struct DataError {
 /// the same channels), by channel.
 ///
 /// Dead channels first (or, where a channel the deck predicts silent holds
-/// what it predicts at the dead one, the two swapped); then, one at a time, the clearest remaining error
-/// (a swapped pair before a sign or scale error) is found and undone in the
-/// table before the next search, so that one wrong channel does not make a
-/// sound one look wrong. More errors than a third of the channels means the
-/// deck, not the channels, disagrees with the test: none is reported then.
+/// what it predicts at the dead one, the two swapped); then, one at a
+/// time, the clearest remaining error (a swapped pair before a sign or
+/// scale error) is found and undone in the table before the next search,
+/// so that one wrong channel does not make a sound one look wrong. More
+/// errors than a third of the channels means the deck, not the channels,
+/// disagrees with the test: none is reported then.
 pub fn check(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     let mut errors = dead::swaps_with_silent(data, mm, dead::dead_channels(data, mm));
     let live: Vec<bool> = (0..data.channels.len())
