@@ -96,6 +96,17 @@ fn parse_args() -> Result<Args, String> {
     Ok(a)
 }
 
+/// With several cases at a time, each `frfup` gets one thread (unless
+/// RAYON_NUM_THREADS says otherwise): the cases already share the cores,
+/// and a diagnosis's second start, run beside its first on a second
+/// thread, would spend work that is thrown away when the first explains
+/// the test.
+fn one_thread_per_case(jobs: usize) {
+    if jobs > 1 && std::env::var_os("RAYON_NUM_THREADS").is_none() {
+        std::env::set_var("RAYON_NUM_THREADS", "1");
+    }
+}
+
 fn main() {
     let args = match parse_args() {
         Ok(a) => a,
@@ -104,6 +115,7 @@ fn main() {
             std::process::exit(2);
         }
     };
+    one_thread_per_case(args.jobs);
     if let Err(e) = run(&args) {
         eprintln!("random_benchmark: {e}");
         std::process::exit(2);

@@ -542,6 +542,10 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         for (stage, secs, units) in &d.timings {
             eprintln!("time: {stage:<32} {secs:>8.3} s  ({units} model-solution units)");
         }
+        eprintln!(
+            "time: {} model solutions asked for again were kept from before",
+            d.model_solutions_kept
+        );
     }
     if a.json {
         print_json(&commands::diagnose::json(&d, &a.out));

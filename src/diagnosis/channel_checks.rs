@@ -55,7 +55,7 @@ pub(super) fn check(
             None => modal.clone(),
         }
     };
-    let evaluations = engine.evaluations.get();
+    let evaluations = engine.spent();
     if errors == modal {
         return Ok(Checked {
             errors,

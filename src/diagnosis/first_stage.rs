@@ -74,7 +74,7 @@ fn polish(search: &Search, stage: &mut FirstStage) {
         engine.data,
         &engine.all,
         8,
-        &engine.evaluations,
+        engine.counter(),
     ) {
         if c < f0.cost {
             stage.deck = model::updated_deck(search.deck, &values);

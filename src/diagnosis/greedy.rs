@@ -9,6 +9,7 @@
 //! is spent or when no candidate passes.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use frfup_parsers::deck::Deck;
 
@@ -46,15 +47,20 @@ pub(super) struct Greedy {
 }
 
 /// Greedy search from `start`: damping form, then extensions one at a time.
-/// `None` if no damping form gives a usable model.
-pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, DiagnoseError> {
+/// `None` if no damping form gives a usable model. `stop`: end the search
+/// before its next round (its result is then not used).
+pub(super) fn search(
+    search: &Search,
+    start: &Deck,
+    stop: &AtomicBool,
+) -> Result<Option<Greedy>, DiagnoseError> {
     let Some(mut g) = Greedy::start(search, start) else {
         return Ok(None);
     };
     let (engine, opts) = (search.engine, search.opts);
     // The budget is this search's: a second start gets its own.
-    let spent_before = engine.evaluations.get();
-    let within_budget = || engine.evaluations.get() - spent_before <= opts.evaluation_budget;
+    let spent_before = engine.spent();
+    let within_budget = || engine.spent() - spent_before <= opts.evaluation_budget;
     // One round can spend the whole budget (its full fits with the deck's
     // parameters free cost thousands of model solutions), and a check made
     // only between rounds would then end every search after its first
@@ -62,7 +68,12 @@ pub(super) fn search(search: &Search, start: &Deck) -> Result<Option<Greedy>, Di
     // budget therefore bounds the rounds after the second.
     for round in 0..opts.max_findings {
         let budget_left = round <= 1 || within_budget();
-        if g.findings.len() >= opts.max_findings || g.cost <= 1.25 * search.j0 || !budget_left {
+        let stopped = stop.load(Ordering::Relaxed);
+        if g.findings.len() >= opts.max_findings
+            || g.cost <= 1.25 * search.j0
+            || !budget_left
+            || stopped
+        {
             break;
         }
         let used = g.used_labels();

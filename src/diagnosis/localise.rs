@@ -13,6 +13,7 @@
 //! the fraction of the projected |r₀|².
 
 use frfup_parsers::deck::Deck;
+use rayon::prelude::*;
 
 use super::data::TestData;
 use super::fit::{self, DampingState, Mask, ModalModel};
@@ -96,7 +97,7 @@ pub fn probe(
     let r0p = project_out(r0, basis);
     let n0: f64 = dot(&r0p, &r0p).max(1e-300);
     candidates
-        .iter()
+        .par_iter()
         .enumerate()
         .map(|(index, h)| {
             let value = h.param.as_ref().map(|p| p.probe);

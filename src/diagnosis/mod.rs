@@ -17,6 +17,7 @@ pub mod data_errors;
 pub mod discriminate;
 pub mod hypotheses;
 pub mod localise;
+pub mod model_cache;
 pub mod refit;
 pub mod select;
 pub mod suspension_placement;
@@ -155,6 +156,9 @@ pub struct Diagnosis {
     pub channels: Vec<String>,
     pub ignored_channels: Vec<String>,
     pub model_evaluations: usize,
+    /// Model solutions asked for again and kept from before (not solved
+    /// again: [`model_cache`]); for `--verbose`.
+    pub model_solutions_kept: usize,
     /// True when the final model explains the data to the noise level.
     pub at_noise_level: bool,
     /// Wall time of each stage (name, seconds, model solutions), for `--verbose`
@@ -209,7 +213,7 @@ pub fn diagnose_with_progress(
     } = channel_checks::check(deck, &column, &measured, roving, opts)?;
     let test = &test;
     let engine = Engine::new(&data);
-    engine.evaluations.set(check_evaluations);
+    engine.spend(check_evaluations);
     let search = Search::new(&engine, deck, test, opts);
     let data_error_findings = data_error_findings(deck, &measured, &search, &checked);
     ignored_channels.extend(
@@ -218,19 +222,19 @@ pub fn diagnose_with_progress(
             .filter(|e| matches!(e.kind, data_errors::DataErrorKind::Dead { .. }))
             .map(|e| measured.channels[e.channel].label.clone()),
     );
-    lap("prepare test data", engine.evaluations.get());
+    lap("prepare test data", engine.spent());
 
     // 1. The deck as given, then with its own parameters updated.
     stage("updating the deck's parameters");
     let initial = quality(&engine, deck, &search.start_damping)?;
     let first = first_on_checked.unwrap_or_else(|| first_stage::update_own_parameters(&search));
     let updated = quality(&engine, &first.deck, &search.start_damping)?;
-    lap("update the deck's parameters", engine.evaluations.get());
+    lap("update the deck's parameters", engine.spent());
 
     // 2.–4. Greedy extensions from each start.
     stage("searching for missing physics");
     let best = search.extensions_from_starts(&first.deck)?;
-    lap("search extensions (all starts)", engine.evaluations.get());
+    lap("search extensions (all starts)", engine.spent());
     let Some(g) = best else {
         return Err(DiagnoseError::Eigen(
             "the updated model gives no usable FRF".into(),
@@ -257,7 +261,7 @@ pub fn diagnose_with_progress(
     })?;
     let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
     let at_noise_level = final_fit.cost <= 1.25 * search.j0;
-    lap("damping and final scores", engine.evaluations.get());
+    lap("damping and final scores", engine.spent());
     Ok(Diagnosis {
         findings,
         initial,
@@ -272,7 +276,8 @@ pub fn diagnose_with_progress(
         rejected: g.rejected,
         channels: data.channels.iter().map(|c| c.label.clone()).collect(),
         ignored_channels,
-        model_evaluations: engine.evaluations.get(),
+        model_evaluations: engine.spent(),
+        model_solutions_kept: engine.models_kept(),
         data: data.clone(),
         at_noise_level,
         timings,

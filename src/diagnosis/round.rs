@@ -6,6 +6,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use frfup_parsers::deck::Deck;
 
 use super::fit::{self, DampingState};
@@ -379,7 +381,7 @@ fn spring_pairs(
     dof: frfup_parsers::deck::DeckDof,
     chosen: &[Hypothesis],
 ) -> Vec<Hypothesis> {
-    let mut pairs: Vec<(f64, Hypothesis)> = Vec::new();
+    let mut untried: Vec<Hypothesis> = Vec::new();
     for a in 0..pool.len() {
         for b in a + 1..pool.len() {
             let mut ns = vec![pool[a], pool[b]];
@@ -388,19 +390,27 @@ fn spring_pairs(
             if cur.used.contains(&h.label) || chosen.iter().any(|c| c.label == h.label) {
                 continue;
             }
-            engine.damping_iterations.set(3);
-            let f = engine.fit(&FitRequest {
-                hypothesis: Some(&h),
-                search: LogSearch::over_bounds(5, 3),
-                with_std: false,
-                ..FitRequest::damping(cur.deck, cur.damp, &engine.all)
-            });
-            engine.damping_iterations.set(10);
-            if let Some(f) = f {
-                pairs.push((f.cost, h));
-            }
+            untried.push(h);
         }
     }
+    let costs: Vec<Option<f64>> = untried
+        .par_iter()
+        .map(|h| {
+            let f = engine.fit(&FitRequest {
+                hypothesis: Some(h),
+                search: LogSearch::over_bounds(5, 3),
+                with_std: false,
+                damping_iterations: 3,
+                ..FitRequest::damping(cur.deck, cur.damp, &engine.all)
+            })?;
+            Some(f.cost)
+        })
+        .collect();
+    let mut pairs: Vec<(f64, Hypothesis)> = costs
+        .into_iter()
+        .zip(untried)
+        .filter_map(|(c, h)| Some((c?, h)))
+        .collect();
     pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
     pairs.into_iter().take(2).map(|(_, h)| h).collect()
 }
@@ -413,9 +423,9 @@ fn fit_in_full(
     cur: &Current,
     chosen: Vec<Hypothesis>,
 ) -> Vec<(Hypothesis, HypFit)> {
-    let mut fitted: Vec<(Hypothesis, HypFit)> = chosen
-        .into_iter()
-        .filter_map(|h| {
+    let fits: Vec<Option<(Hypothesis, HypFit)>> = chosen
+        .into_par_iter()
+        .map(|h| {
             let grid = engine.fit(&FitRequest {
                 hypothesis: Some(&h),
                 search: LogSearch::over_bounds(9, 10),
@@ -434,6 +444,7 @@ fn fit_in_full(
             }
         })
         .collect();
+    let mut fitted: Vec<(Hypothesis, HypFit)> = fits.into_iter().flatten().collect();
     fitted.sort_by(|a, b| a.1.cost.total_cmp(&b.1.cost));
     fitted
 }
@@ -454,9 +465,11 @@ fn refit_with_deck_parameters(
     if !(1..=6).contains(&np) {
         return;
     }
+    // Which are refitted (decided in order), then the refits in parallel.
     let mut with_param = 0;
     let mut classes: Vec<Physics> = Vec::new();
-    for (h, f) in fitted.iter_mut() {
+    let mut refitted: Vec<bool> = Vec::with_capacity(fitted.len());
+    for (h, _) in fitted.iter() {
         let forced = always.contains(&h.label);
         // The best of each class is refitted too: a class whose fit on the
         // distorted deck is poor would otherwise never compete.
@@ -464,15 +477,30 @@ fn refit_with_deck_parameters(
         if first_of_class {
             classes.push(h.physics);
         }
-        let g = if h.param.is_none() {
-            joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
-        } else if forced || first_of_class || with_param < if cur.large { 2 } else { 3 } {
+        let refit = h.param.is_none()
+            || forced
+            || first_of_class
+            || with_param < if cur.large { 2 } else { 3 };
+        if refit && h.param.is_some() {
             with_param += usize::from(!forced);
-            let problem = refit::Joint::with_deck_parameters(cur.deck, vec![&*h]);
-            frequency_seeded_with(engine, &problem, cur.damp, Some(f))
-        } else {
-            None
-        };
+        }
+        refitted.push(refit);
+    }
+    let refits: Vec<Option<HypFit>> = fitted
+        .par_iter()
+        .zip(&refitted)
+        .map(|((h, f), &refit)| {
+            if !refit {
+                None
+            } else if h.param.is_none() {
+                joint_screen::parameterless_with_deck(engine, cur.deck, h, cur.damp)
+            } else {
+                let problem = refit::Joint::with_deck_parameters(cur.deck, vec![h]);
+                frequency_seeded_with(engine, &problem, cur.damp, Some(f))
+            }
+        })
+        .collect();
+    for ((_, f), g) in fitted.iter_mut().zip(refits) {
         if let Some(g) = g.filter(|g| g.cost < f.cost) {
             *f = g;
         }
@@ -501,32 +529,43 @@ fn validate_best(
     fitted: &[(Hypothesis, HypFit)],
     base_cost: f64,
 ) -> Vec<(Hypothesis, HypFit, f64)> {
-    let mut validated = Vec::new();
-    for (h, f) in fitted.iter().take(5) {
-        if !(f.cost < base_cost * 0.97) {
-            continue;
-        }
-        let v = if f.deck_values.is_empty() {
-            engine.validate(Some(h), cur.deck, f)
-        } else {
-            let problem = refit::Joint::with_deck_parameters(cur.deck, vec![h]);
-            let logs: Vec<f64> = f.log_value.into_iter().collect();
-            let mut x = logs.clone();
-            x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
-            let jf = refit::JointFit {
-                logs,
-                deck_values: f.deck_values.clone(),
-                x,
-                damping: f.damping.clone(),
-                cost: f.cost,
-                std_log: vec![],
-                on_bound: vec![],
-            };
-            refit::validate_joint(engine, &problem, &jf)
+    let promising: Vec<&(Hypothesis, HypFit)> = fitted
+        .iter()
+        .take(5)
+        .filter(|(_, f)| f.cost < base_cost * 0.97)
+        .collect();
+    let costs: Vec<f64> = promising
+        .par_iter()
+        .map(|(h, f)| validation_cost(engine, cur, h, f))
+        .collect();
+    promising
+        .into_iter()
+        .zip(costs)
+        .map(|((h, f), v)| (h.clone(), f.clone(), v))
+        .collect()
+}
+
+/// The validation cost of candidate `h` fitted as `f` (with the deck's
+/// parameters, when it was fitted along with them).
+fn validation_cost(engine: &Engine, cur: &Current, h: &Hypothesis, f: &HypFit) -> f64 {
+    if f.deck_values.is_empty() {
+        engine.validate(Some(h), cur.deck, f)
+    } else {
+        let problem = refit::Joint::with_deck_parameters(cur.deck, vec![h]);
+        let logs: Vec<f64> = f.log_value.into_iter().collect();
+        let mut x = logs.clone();
+        x.extend(problem.deck_params.iter().map(|n| f.deck_values[n]));
+        let jf = refit::JointFit {
+            logs,
+            deck_values: f.deck_values.clone(),
+            x,
+            damping: f.damping.clone(),
+            cost: f.cost,
+            std_log: vec![],
+            on_bound: vec![],
         };
-        validated.push((h.clone(), f.clone(), v));
+        refit::validate_joint(engine, &problem, &jf)
     }
-    validated
 }
 
 /// A one-parameter fit of `h` through [`refit::fit_joint`]: 7 starts across

@@ -2,6 +2,8 @@
 //! the fitting engine, the noise level and the deck's damping), and the
 //! search for extensions from each starting deck (steps 2–4).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
@@ -67,32 +69,72 @@ impl<'a> Search<'a> {
         &self,
         updated_deck: &Deck,
     ) -> Result<Option<Greedy>, DiagnoseError> {
-        let mut starts = vec![updated_deck.clone()];
-        if updated_deck != self.deck {
-            starts.push(self.deck.clone());
+        if updated_deck == self.deck {
+            return self.search_from(updated_deck, &AtomicBool::new(false));
         }
-        let mut best: Option<Greedy> = None;
-        for start in &starts {
-            // The updated deck (first start) already at the noise level: the
-            // deck as given has nothing to add.
-            if best.as_ref().is_some_and(|b| b.cost <= 1.25 * self.j0) {
-                break;
-            }
-            let Some(mut g) = greedy::search(self, start)? else {
-                continue;
-            };
-            if self.updates_parameters() && !g.accepted.is_empty() {
-                self.update_extended_deck(&mut g);
-            }
-            let better = match &best {
-                None => true,
-                Some(b) => g.v < b.v - select::margin(b.v, self.j0),
-            };
-            if better {
-                best = Some(g);
-            }
+        // The two starts are searched side by side, the second with an
+        // engine of its own. The updated deck (first start) at the noise
+        // level leaves the deck as given nothing to add: the second search
+        // is then stopped and its result and work discarded, as if it had
+        // never run.
+        let beside = self.engine.beside();
+        let second = self.with_engine(&beside);
+        let first_explains = AtomicBool::new(false);
+        let (first, other) = rayon::join(
+            || {
+                let g = self.search_from(updated_deck, &AtomicBool::new(false));
+                if let Ok(Some(g)) = &g {
+                    first_explains.store(g.cost <= 1.25 * self.j0, Ordering::Relaxed);
+                }
+                g
+            },
+            || second.search_from(self.deck, &first_explains),
+        );
+        let first = first?;
+        if first.as_ref().is_some_and(|g| g.cost <= 1.25 * self.j0) {
+            return Ok(first);
         }
-        Ok(best)
+        let other = other?;
+        drop(second);
+        self.engine.absorb(beside);
+        Ok(match (first, other) {
+            (Some(b), Some(g)) if g.v < b.v - select::margin(b.v, self.j0) => Some(g),
+            (None, g) => g,
+            (b, _) => b,
+        })
+    }
+
+    /// This search with another engine (see [`Engine::beside`]).
+    fn with_engine<'b>(&'b self, engine: &'b Engine<'b>) -> Search<'b> {
+        Search {
+            engine,
+            opts: self.opts,
+            deck: self.deck,
+            test: self.test,
+            j0: self.j0,
+            zeta0: self.zeta0,
+            deck_form: self.deck_form.clone(),
+            start_damping: self.start_damping.clone(),
+        }
+    }
+
+    /// The greedy search from `start`, the deck's parameters updated again
+    /// on what it accepted; `stop`: abandon it between rounds.
+    fn search_from(
+        &self,
+        start: &Deck,
+        stop: &AtomicBool,
+    ) -> Result<Option<Greedy>, DiagnoseError> {
+        if stop.load(Ordering::Relaxed) {
+            return Ok(None);
+        }
+        let Some(mut g) = greedy::search(self, start, stop)? else {
+            return Ok(None);
+        };
+        if self.updates_parameters() && !g.accepted.is_empty() && !stop.load(Ordering::Relaxed) {
+            self.update_extended_deck(&mut g);
+        }
+        Ok(Some(g))
     }
 
     /// Update the deck's own parameters again on the deck with the accepted
@@ -114,7 +156,7 @@ impl<'a> Search<'a> {
             engine.data,
             &engine.all,
             8,
-            &engine.evaluations,
+            engine.counter(),
         )
         .map(|(v, _, _)| v);
         let Some(values) = polished else {

@@ -10,11 +10,16 @@
 //! Extensions are added greedily; the search stops when the cost is within
 //! 25 % of the noise level.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
+
 use frfup_parsers::deck::Deck;
+use rayon::prelude::*;
 
 use super::data::TestData;
 use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
+use super::model_cache::ModelCache;
 use super::DiagnoseError;
 
 /// Fitted hypothesis (or the current model alone when `value` is `None` and
@@ -149,6 +154,9 @@ pub struct FitRequest<'r> {
     pub search: LogSearch,
     /// Also compute the standard deviations (one Jacobian more).
     pub with_std: bool,
+    /// Levenberg–Marquardt iterations of the damping profile (10; fewer
+    /// while screening).
+    pub damping_iterations: usize,
 }
 
 impl<'r> FitRequest<'r> {
@@ -161,6 +169,7 @@ impl<'r> FitRequest<'r> {
             mask,
             search: LogSearch::NONE,
             with_std: false,
+            damping_iterations: 10,
         }
     }
 }
@@ -170,12 +179,13 @@ pub struct Engine<'a> {
     pub data: &'a TestData,
     pub folds: Vec<(Mask, Mask)>,
     pub all: Mask,
-    /// Work so far: model solutions, weighted by size (one unit per 100 DOFs).
-    pub evaluations: std::cell::Cell<usize>,
-    /// Levenberg–Marquardt iterations of the damping profile (fewer while screening).
-    pub damping_iterations: std::cell::Cell<usize>,
+    /// Work so far: model solutions asked for, weighted by size (one unit
+    /// per 100 DOFs). A sum, whatever order threads add to it in.
+    evaluations: AtomicUsize,
     /// The test's modes by the identification, found when first asked for.
-    test_modes: std::cell::OnceCell<Vec<crate::identification::ColumnMode>>,
+    test_modes: OnceLock<Vec<crate::identification::ColumnMode>>,
+    /// The modal models of the decks solved last.
+    models: Mutex<ModelCache>,
 }
 
 impl<'a> Engine<'a> {
@@ -184,9 +194,9 @@ impl<'a> Engine<'a> {
             data,
             folds: folds(data),
             all: Mask::all(data),
-            evaluations: std::cell::Cell::new(0),
-            damping_iterations: std::cell::Cell::new(10),
-            test_modes: std::cell::OnceCell::new(),
+            evaluations: AtomicUsize::new(0),
+            test_modes: OnceLock::new(),
+            models: Mutex::new(ModelCache::default()),
         }
     }
 
@@ -196,11 +206,70 @@ impl<'a> Engine<'a> {
             .get_or_init(|| super::suspension_placement::identified_modes(self.data))
     }
 
+    /// A copy of this engine with a work counter and a model cache of its
+    /// own, for a search run beside another: each search's budget, and so
+    /// its course, is then what it would be alone.
+    pub fn beside(&self) -> Engine<'a> {
+        Engine {
+            data: self.data,
+            folds: self.folds.clone(),
+            all: self.all.clone(),
+            evaluations: AtomicUsize::new(0),
+            test_modes: self.test_modes.clone(),
+            models: Mutex::new(ModelCache::default()),
+        }
+    }
+
+    /// Count the work and kept models of `other` (an engine made by
+    /// [`Self::beside`] whose search's result is used) as this one's.
+    pub fn absorb(&self, other: Engine) {
+        self.spend(other.spent());
+        let kept = other.cache().hits();
+        self.cache().hits += kept;
+    }
+
+    /// Model solutions asked for again and kept from before.
+    pub fn models_kept(&self) -> usize {
+        self.cache().hits()
+    }
+
+    fn cache(&self) -> std::sync::MutexGuard<'_, ModelCache> {
+        // A thread that panicked while holding the lock left a whole cache:
+        // every change to it is one call.
+        self.models.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Model-solution units spent so far.
+    pub fn spent(&self) -> usize {
+        self.evaluations.load(Ordering::Relaxed)
+    }
+
+    /// The counter of work spent, for fits that count their own model
+    /// solutions.
+    pub fn counter(&self) -> &AtomicUsize {
+        &self.evaluations
+    }
+
+    /// Add `units` to the work spent.
+    pub fn spend(&self, units: usize) {
+        self.evaluations.fetch_add(units, Ordering::Relaxed);
+    }
+
+    /// The modal model of `deck` (solved, or kept from an earlier call).
     pub fn model(&self, deck: &Deck) -> Result<ModalModel, DiagnoseError> {
-        let mm = fit::modal_model(deck, self.data)?;
-        // Work units: one per model solution, more for models above 100 DOFs.
-        self.evaluations
-            .set(self.evaluations.get() + mm.dofs.div_ceil(100).max(1));
+        let kept = self.cache().get(deck);
+        let mm = match kept {
+            Some(mm) => mm,
+            None => {
+                let mm = fit::modal_model(deck, self.data)?;
+                self.cache().keep(deck, &mm);
+                mm
+            }
+        };
+        // Work units: one per model solution asked for, more for models
+        // above 100 DOFs. A kept model counts as well, so that the budget,
+        // and with it the search's course, does not depend on the cache.
+        self.spend(mm.dofs.div_ceil(100).max(1));
         Ok(mm)
     }
 
@@ -217,13 +286,7 @@ impl<'a> Engine<'a> {
             None => req.base.clone(),
         };
         let mm = self.model(&deck).ok()?;
-        let (d, r) = fit::fit_damping(
-            &mm,
-            damp,
-            self.data,
-            req.mask,
-            self.damping_iterations.get(),
-        );
+        let (d, r) = fit::fit_damping(&mm, damp, self.data, req.mask, req.damping_iterations);
         let c = fit::mean_sq(&r);
         c.is_finite().then_some((c, d, mm))
     }
@@ -442,6 +505,7 @@ impl<'a> Engine<'a> {
                     golden: 5,
                 },
                 with_std: false,
+                damping_iterations: 10,
             })?;
             let deck = match hyp {
                 Some(h) => h.apply(base, f.value),
@@ -454,17 +518,27 @@ impl<'a> Engine<'a> {
     /// Blocked cross-validation: `refit` gives the model and damping fitted
     /// on a training mask; the mean cost of their predictions on the held-out
     /// masks (∞ if a refit fails, `no_folds` if there are no folds).
-    pub fn cross_validate<F>(&self, no_folds: f64, mut refit: F) -> f64
+    /// The folds are refitted in parallel; their costs are summed in fold
+    /// order.
+    pub fn cross_validate<F>(&self, no_folds: f64, refit: F) -> f64
     where
-        F: FnMut(&Mask) -> Option<(ModalModel, crate::model::Damping)>,
+        F: Fn(&Mask) -> Option<(ModalModel, crate::model::Damping)> + Sync,
     {
+        let costs: Vec<Option<f64>> = self
+            .folds
+            .par_iter()
+            .map(|(train, val)| {
+                let (mm, damping) = refit(train)?;
+                let r = fit::residuals(&fit::predict(&mm, damping, self.data, val), self.data, val);
+                Some(fit::mean_sq(&r))
+            })
+            .collect();
         let mut sum = 0.0;
-        for (train, val) in &self.folds {
-            let Some((mm, damping)) = refit(train) else {
+        for c in costs {
+            let Some(c) = c else {
                 return f64::INFINITY;
             };
-            let r = fit::residuals(&fit::predict(&mm, damping, self.data, val), self.data, val);
-            sum += fit::mean_sq(&r);
+            sum += c;
         }
         if self.folds.is_empty() {
             no_folds

@@ -268,6 +268,32 @@ fn sensor_masses_hidden_behind_parameter_errors() {
     at_noise_level(&d);
 }
 
+/// The diagnosis runs its two starts, its candidates and its folds in
+/// parallel: on one thread and on two it finds the same, with the same
+/// values, rejections, final deck and work counted. Here the update changes
+/// the deck, so there are two starts, and the first explains the test: the
+/// second, run beside it on two threads, is stopped and leaves no trace.
+#[test]
+fn the_same_diagnosis_on_one_thread_as_on_two() {
+    let (deck, test) = load("sensor_mass_portal");
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap())
+    };
+    let (one, two) = (on(1), on(2));
+    assert!(!structural(&one).is_empty(), "{:?}", one.findings);
+    assert_eq!(format!("{:?}", one.findings), format!("{:?}", two.findings));
+    assert_eq!(format!("{:?}", one.rejected), format!("{:?}", two.rejected));
+    assert_eq!(
+        frfup::parsers::deck::write(&one.diagnosed_deck),
+        frfup::parsers::deck::write(&two.diagnosed_deck)
+    );
+    assert_eq!(one.model_evaluations, two.model_evaluations);
+}
+
 /// GARTEUR size (the demo's deck with its bungee suspension, 20 deck
 /// parameters, 26 channels, 801 lines): once the update (the demo's
 /// options) has fixed the stiffness errors, only the damping the deck

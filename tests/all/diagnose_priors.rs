@@ -5,8 +5,8 @@
 //! `control_portal` fixture: only the deck's parameters are wrong (girder
 //! Iy −12 %, columns +8 %, 1 % noise; scripts/gen_diagnose_fixtures.sh).
 
-use std::cell::Cell;
 use std::path::Path;
+use std::sync::atomic::AtomicUsize;
 
 use frfup::diagnosis::data::TestData;
 use frfup::diagnosis::refit::Joint;
@@ -42,7 +42,7 @@ fn polished_girder(deck: &Deck, data: &TestData) -> f64 {
         data,
         &Mask::all(data),
         8,
-        &Cell::new(0),
+        &AtomicUsize::new(0),
     )
     .expect("the polish runs");
     values["girder"]
@@ -111,7 +111,7 @@ fn a_prior_keeps_its_centre_on_an_updated_deck() {
         &data,
         &Mask::all(&data),
         8,
-        &Cell::new(0),
+        &AtomicUsize::new(0),
     )
     .expect("the polish runs");
     let centre = 0.12 / 0.88;

@@ -60,6 +60,7 @@ impl Mask {
 }
 
 /// The modes of one model and how they reach the measured channels.
+#[derive(Clone, Debug)]
 pub struct ModalModel {
     /// ω_r² (rad²/s²).
     pub omega2: Vec<f64>,
@@ -514,7 +515,7 @@ pub fn fit_deck_parameters(
     data: &TestData,
     mask: &Mask,
     max_iter: usize,
-    evaluations: &std::cell::Cell<usize>,
+    evaluations: &std::sync::atomic::AtomicUsize,
 ) -> Option<(ParameterValues, DampingState, f64)> {
     let names = model::parameter_names(deck);
     if names.is_empty() {
@@ -542,7 +543,7 @@ pub fn fit_deck_parameters(
         let fresh = cache.as_ref().is_none_or(|(k, _)| k.as_slice() != p);
         if fresh {
             let values: ParameterValues = names.iter().cloned().zip(p.iter().copied()).collect();
-            evaluations.set(evaluations.get() + 1);
+            evaluations.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             model::build(deck, &values).ok()?;
             let d = model::updated_deck(deck, &values);
             let mm = modal_model(&d, data).ok()?;

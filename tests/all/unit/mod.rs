@@ -5,6 +5,7 @@
 mod batch_campaign;
 mod diagnosis_discriminate;
 mod diagnosis_folds;
+mod diagnosis_model_cache;
 mod diagnosis_prior;
 mod diagnosis_suspension_placement;
 mod diagnosis_verdict;
