@@ -70,7 +70,7 @@ pub(super) fn search(
         let budget_left = round <= 1 || within_budget();
         let stopped = stop.load(Ordering::Relaxed);
         if g.findings.len() >= opts.max_findings
-            || g.cost <= 1.25 * search.j0
+            || search.at_noise_level(g.cost)
             || !budget_left
             || stopped
         {

@@ -260,7 +260,7 @@ pub fn diagnose_with_progress(
         DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
     })?;
     let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
-    let at_noise_level = final_fit.cost <= 1.25 * search.j0;
+    let at_noise_level = search.at_noise_level(final_fit.cost);
     lap("damping and final scores", engine.spent());
     Ok(Diagnosis {
         findings,

@@ -54,6 +54,12 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// A fit of cost `cost` explains the test to the noise level (within
+    /// 25 % of J0).
+    pub fn at_noise_level(&self, cost: f64) -> bool {
+        cost <= 1.25 * self.j0
+    }
+
     /// The deck's own parameters are updated (the update is asked for and
     /// the deck has parameters).
     pub fn updates_parameters(&self) -> bool {
@@ -84,14 +90,14 @@ impl<'a> Search<'a> {
             || {
                 let g = self.search_from(updated_deck, &AtomicBool::new(false));
                 if let Ok(Some(g)) = &g {
-                    first_explains.store(g.cost <= 1.25 * self.j0, Ordering::Relaxed);
+                    first_explains.store(self.at_noise_level(g.cost), Ordering::Relaxed);
                 }
                 g
             },
             || second.search_from(self.deck, &first_explains),
         );
         let first = first?;
-        if first.as_ref().is_some_and(|g| g.cost <= 1.25 * self.j0) {
+        if first_explains.load(Ordering::Relaxed) {
             return Ok(first);
         }
         let other = other?;
