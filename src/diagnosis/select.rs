@@ -154,8 +154,8 @@ pub struct FitRequest<'r> {
     pub search: LogSearch,
     /// Also compute the standard deviations (one Jacobian more).
     pub with_std: bool,
-    /// Levenberg–Marquardt iterations of the damping profile (10; fewer
-    /// while screening).
+    /// Levenberg–Marquardt iterations of the damping profile
+    /// ([`DAMPING_ITERATIONS`]; fewer while screening).
     pub damping_iterations: usize,
 }
 
@@ -169,10 +169,14 @@ impl<'r> FitRequest<'r> {
             mask,
             search: LogSearch::NONE,
             with_std: false,
-            damping_iterations: 10,
+            damping_iterations: DAMPING_ITERATIONS,
         }
     }
 }
+
+/// Levenberg–Marquardt iterations of a fit's damping profile (screens may
+/// ask for fewer).
+pub const DAMPING_ITERATIONS: usize = 10;
 
 /// The fitting engine over one test.
 pub struct Engine<'a> {
@@ -496,16 +500,12 @@ impl<'a> Engine<'a> {
             let bracket = full.log_value.map(|s| (s - 0.7, s + 0.7));
             let f = self.fit(&FitRequest {
                 hypothesis: hyp,
-                base,
-                damping: &full.damping,
-                mask: train,
                 search: LogSearch {
                     bracket,
                     grid: 3,
                     golden: 5,
                 },
-                with_std: false,
-                damping_iterations: 10,
+                ..FitRequest::damping(base, &full.damping, train)
             })?;
             let deck = match hyp {
                 Some(h) => h.apply(base, f.value),
