@@ -17,12 +17,23 @@
 //! solve M_aa α_a = −M_ab. Every entry depends on s − r only (Toeplitz), so
 //! one set of sums Σ_k z_k^d (·), |d| ≤ p_max, serves every order.
 //!
+//! One Cholesky factor R0 = LLᵀ at the highest order serves every order:
+//! the factor of a leading block of R0 is the leading block of L, and the
+//! first p+1 rows of Y_o = L⁻¹S0_o depend only on the first p+1 rows of
+//! S0_o, so S_oᵀR_o⁻¹S_o of order p is Y_oᵀY_o over Y_o's leading
+//! (p+1) × (p+1)m block, and β_o = −L_p⁻ᵀ Y_o α. The whole diagram costs one
+//! triangular solve per output instead of one per output and order.
+//!
 //! Poles: eigenvalues z of the block companion matrix of D, λ = ln z / Δt
 //! (rad/s); its eigenvector's first block is the participation vector L
 //! (D(z)L = 0), and N_o(z)L is output o's shape up to a common factor.
 
+use faer::linalg::matmul::matmul;
 use faer::linalg::solvers::Solve;
-use faer::{c64, Mat, Side};
+use faer::linalg::triangular_solve::{
+    solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+};
+use faer::{c64, Accum, Mat, Par, Side};
 
 use super::prepare::Prepared;
 use super::IdentifyError;
@@ -35,12 +46,21 @@ pub struct Sums {
     pub dt: f64,
     pub max_order: usize,
     m: usize,
-    /// Re Σ_k z_k^d, d = 0..=P.
-    r: Vec<f64>,
-    /// Re Σ_k z_k^d H_oi(k), d = −P..=P, per FRF (o, i).
-    g: Vec<Vec<f64>>,
     /// Σ_o w_o² Re Σ_k z_k^d conj(H_oi) H_oj, d = −P..=P, per (i, j).
     t: Vec<Vec<f64>>,
+    factored: Factored,
+}
+
+/// The numerator blocks at order P, factored once for every order.
+#[derive(Clone, Debug)]
+struct Factored {
+    /// L of R0 = LLᵀ at order P ((P+1) × (P+1)).
+    chol: Mat<f64>,
+    /// Y_o = L⁻¹S0_o per output ((P+1) × (P+1)m).
+    y: Vec<Mat<f64>>,
+    /// w_o·Y_o stacked row by row: row r·outputs + o is w_o times Y_o's row
+    /// r, so that order p's rows are the leading (p+1)·outputs.
+    stack: Mat<f64>,
 }
 
 impl Sums {
@@ -73,9 +93,16 @@ impl Sums {
                 }
             }
         }
-        let theta: Vec<f64> = data.omega.iter().map(|w| w * dt).collect();
+        let z1: Vec<c64> = data.omega.iter().map(|w| c64::cis(w * dt)).collect();
+        // z_k^d by repeated products (rounding grows as d·ε, 1e-14 at order
+        // 100): a sine and cosine per line and order cost more than the sums.
+        let mut zd = vec![c64::new(1.0, 0.0); n];
         for d in 0..=p {
-            let zd: Vec<c64> = theta.iter().map(|th| c64::cis(th * d as f64)).collect();
+            if d > 0 {
+                for (z, step) in zd.iter_mut().zip(&z1) {
+                    *z *= step;
+                }
+            }
             r[d] = zd.iter().map(|z| z.re).sum();
             // Re Σ z^{±d} x = Σ (Re z Re x ∓ Im z Im x).
             let sums = |x: &[c64]| -> (f64, f64) {
@@ -97,15 +124,48 @@ impl Sums {
                 tj[p - d] = minus;
             }
         }
+        let factored = factor(data, &r, &g, m, p)?;
         Ok(Sums {
             dt,
             max_order,
             m,
-            r,
-            g,
             t,
+            factored,
         })
     }
+}
+
+/// L of R0 at order `p`, Y_o = L⁻¹S0_o per output and their weighted stack
+/// (see [`Sums`]).
+fn factor(
+    data: &Prepared,
+    r: &[f64],
+    g: &[Vec<f64>],
+    m: usize,
+    p: usize,
+) -> Result<Factored, IdentifyError> {
+    let (n1, nc, outputs) = (p + 1, (p + 1) * m, data.n_outputs());
+    let r0 = Mat::<f64>::from_fn(n1, n1, |a, b| r[a.abs_diff(b)]);
+    let llt = r0
+        .llt(Side::Lower)
+        .map_err(|_| IdentifyError::Singular("LSCF R"))?;
+    let chol = llt.L().to_owned();
+    let mut stack = Mat::<f64>::zeros(n1 * outputs, nc);
+    let mut y = Vec::with_capacity(outputs);
+    for (o, w) in data.weights.iter().enumerate() {
+        let mut yo = Mat::<f64>::from_fn(n1, nc, |row, b| {
+            let (s, i) = (b / m, b % m);
+            -g[o * m + i][p + s - row]
+        });
+        solve_lower_triangular_in_place(chol.as_ref(), yo.as_mut(), Par::Seq);
+        for row in 0..n1 {
+            for b in 0..nc {
+                stack[(row * outputs + o, b)] = w * yo[(row, b)];
+            }
+        }
+        y.push(yo);
+    }
+    Ok(Factored { chol, y, stack })
 }
 
 /// A pole of one model order.
@@ -126,26 +186,17 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
     let big = sums.max_order;
     let n1 = p + 1;
     let nc = n1 * m;
-    let r0 = Mat::<f64>::from_fn(n1, n1, |a, b| sums.r[a.abs_diff(b)]);
-    let llt = r0
-        .llt(Side::Lower)
-        .map_err(|_| IdentifyError::Singular("LSCF R"))?;
     let mut mm = Mat::<f64>::from_fn(nc, nc, |a, b| {
         let (r, i) = (a / m, a % m);
         let (s, j) = (b / m, b % m);
         sums.t[i * m + j][big + s - r]
     });
-    // Per output: S0_o and Z_o = R0⁻¹ S0_o (kept for the numerators).
-    let mut zs: Vec<Mat<f64>> = Vec::with_capacity(data.n_outputs());
-    for (o, w) in data.weights.iter().enumerate() {
-        let s0 = Mat::<f64>::from_fn(n1, nc, |r, b| {
-            let (s, i) = (b / m, b % m);
-            -sums.g[o * m + i][big + s - r]
-        });
-        let z = llt.solve(s0.as_ref());
-        mm -= product(s0.transpose(), z.as_ref()) * (w * w);
-        zs.push(z);
-    }
+    // Σ_o w_o² S_oᵀR⁻¹S_o = WᵀW over the stack's leading rows and columns.
+    let w = sums
+        .factored
+        .stack
+        .submatrix(0, 0, n1 * data.n_outputs(), nc);
+    matmul(mm.as_mut(), Accum::Add, w.transpose(), w, -1.0, Par::Seq);
     let pm = p * m;
     let maa = mm.submatrix(0, 0, pm, pm).to_owned();
     let mab = mm.submatrix(0, pm, pm, m).to_owned();
@@ -170,21 +221,38 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
             -alpha[(b / m * m + a % m, b % m)]
         }
     });
-    let eig = companion
-        .eigen()
-        .map_err(|_| IdentifyError::Singular("LSCF companion eigenvalues"))?;
-    let betas: Vec<Mat<f64>> = zs
+    let singular = |_| IdentifyError::Singular("LSCF companion eigenvalues");
+    // One input: L is a scalar, 1 (shapes are compared up to a factor), and
+    // the eigenvalues alone cost a fraction of the full decomposition.
+    let (zs, vecs) = if m == 1 {
+        (companion.eigenvalues().map_err(singular)?, None)
+    } else {
+        let eig = companion.eigen().map_err(singular)?;
+        let z = eig.S().column_vector().iter().copied().collect();
+        (z, Some(eig.U().to_owned()))
+    };
+    // β_o = −R⁻¹S_o α = −L_p⁻ᵀ (Y_o α) over the leading blocks.
+    let lt = sums.factored.chol.submatrix(0, 0, n1, n1).transpose();
+    let betas: Vec<Mat<f64>> = sums
+        .factored
+        .y
         .iter()
-        .map(|z| -product(z.as_ref(), alpha.as_ref()))
+        .map(|yo| {
+            let mut beta = -product(yo.submatrix(0, 0, n1, nc), alpha.as_ref());
+            solve_upper_triangular_in_place(lt, beta.as_mut(), Par::Seq);
+            beta
+        })
         .collect();
     let mut out = Vec::new();
-    for e in 0..pm {
-        let z = eig.S().column_vector()[e];
+    for (e, &z) in zs.iter().enumerate() {
         if !(z.im > 0.0) || !(z.norm() > 0.0) || !z.re.is_finite() {
             continue;
         }
         let pole = c64::new(z.norm().ln(), z.arg()) / sums.dt;
-        let participation: Vec<c64> = (0..m).map(|i| eig.U()[(i, e)]).collect();
+        let participation: Vec<c64> = match &vecs {
+            Some(u) => (0..m).map(|i| u[(i, e)]).collect(),
+            None => vec![c64::new(1.0, 0.0)],
+        };
         let vector = betas
             .iter()
             .map(|beta| numerator(beta, &participation, z))

@@ -263,10 +263,14 @@ pub fn default_max_order(data: &Prepared) -> usize {
     let peaks = (0..n)
         .filter(|&k| {
             let near = window(k, w).iter().fold(0.0f64, |a, &b| a.max(b));
-            let low = window(k, 5 * w)
-                .iter()
-                .fold(f64::INFINITY, |a, &b| a.min(b));
-            s[k] >= near && s[k] > 1.25 * low && s[k] - low > 0.2 * median
+            // The wide window only at the few local maxima (a long record
+            // spent a tenth of its identification here otherwise).
+            s[k] >= near && {
+                let low = window(k, 5 * w)
+                    .iter()
+                    .fold(f64::INFINITY, |a, &b| a.min(b));
+                s[k] > 1.25 * low && s[k] - low > 0.2 * median
+            }
         })
         .count();
     let m = data.n_inputs().max(1);
