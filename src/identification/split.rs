@@ -35,13 +35,27 @@ const MAX_LINES: usize = 1000;
 pub fn split_merged(data: &Prepared, poles: &[c64]) -> Result<Vec<c64>, IdentifyError> {
     let n = data.n_lines();
     let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;
+    let selected = poles.len();
     let mut poles = poles.to_vec();
-    for r in 0..poles.len() {
+    for r in 0..selected {
         if let Some(split) = try_split(data, &poles, r, line)? {
             poles = split;
         }
     }
-    Ok(poles)
+    // Two merged neighbours can each give a pole to the mode between them
+    // (three close modes, two diagram poles): a new pole within a quarter
+    // half-bandwidth of a pole already kept is the same mode, and goes.
+    let sigma_of = |p: &c64| (-p.re).max(line);
+    let mut kept: Vec<c64> = poles[..selected].to_vec();
+    for &p in &poles[selected..] {
+        if kept
+            .iter()
+            .all(|q| (p - q).norm() > 0.25 * sigma_of(q).max(sigma_of(&p)))
+        {
+            kept.push(p);
+        }
+    }
+    Ok(kept)
 }
 
 /// The poles with pole `r` split, when that halves its window's residual.
@@ -87,7 +101,7 @@ fn try_split(
         trial.len() - 1,
     );
     let sigma: Vec<f64> = trial.iter().map(sigma_of).collect();
-    let refined = refine_group(data, &trial, &[lr, q], &sigma, &lines)?;
+    let refined = refine_group(data, &trial, &[lr, q], &sigma, &lines, &b)?;
     let after = cost(&residual_vector(data, &refined, &lines, &b)?);
     let inside = |p: c64| p.re < 0.0 && (p.im - poles[r].im).abs() <= WINDOW * sigma_r;
     let apart = (refined[lr] - refined[q]).norm() > 0.25 * sigma_r;
