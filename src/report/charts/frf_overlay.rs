@@ -139,9 +139,9 @@ fn decades(o: &FrfOverlay, ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
     if logs.is_empty() {
         return (-1, 0);
     }
-    logs.sort_by(f64::total_cmp);
-    let lo = logs[(logs.len() as f64 * 0.005) as usize];
-    let hi = logs[logs.len() - 1];
+    let hi = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let q = (logs.len() as f64 * 0.005) as usize;
+    let (_, &mut lo, _) = logs.select_nth_unstable_by(q, f64::total_cmp);
     let top = hi.ceil() as i32;
     let top = if top as f64 - hi < 0.05 { top + 1 } else { top };
     let bottom = (lo.floor() as i32).max(top - max_decades).min(top - 1);

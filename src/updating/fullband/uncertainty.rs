@@ -62,16 +62,21 @@ pub fn uncertainty(obj: &mut Objective, out: &LmOutcome, free: &[bool], j0: f64)
             1.0,
             Par::Seq,
         );
-        let scaled = Mat::from_fn(r.len(), n, |i, k| {
-            let w = if i < data_n {
-                let lev: f64 = (0..n).map(|c| z[(i, c)] * j[(i, c)]).sum();
-                let lev = lev.clamp(0.0, 0.99);
-                r[i] * r[i] / ((1.0 - lev) * (1.0 - lev))
-            } else {
-                j0
-            };
-            w.sqrt() * j[(i, k)]
-        });
+        // √w_i per row (the leverage h_ii = Σ_c z_ic j_ic once per row).
+        let mut lev = vec![0.0; data_n];
+        for c in 0..n {
+            let (zc, jc) = (z.col(c), j.col(c));
+            for (i, l) in lev.iter_mut().enumerate() {
+                *l += zc[i] * jc[i];
+            }
+        }
+        let root_w: Vec<f64> = (0..r.len())
+            .map(|i| match lev.get(i) {
+                Some(&h) => r[i].abs() / (1.0 - h.clamp(0.0, 0.99)),
+                None => j0.sqrt(),
+            })
+            .collect();
+        let scaled = Mat::from_fn(r.len(), n, |i, k| root_w[i] * j[(i, k)]);
         let mut b = Mat::<f64>::zeros(n, n);
         matmul(
             b.as_mut(),
