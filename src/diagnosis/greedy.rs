@@ -17,6 +17,7 @@ use super::data::TestData;
 use super::discriminate;
 use super::fit::DampingState;
 use super::hypotheses::{prior, Hypothesis, Physics};
+use super::joint_screen;
 use super::refit;
 use super::round::{search_round, Round};
 use super::search::Search;
@@ -122,8 +123,11 @@ impl Greedy {
     fn take_round(&mut self, search: &Search, round: usize, step: Round, pairs: bool) -> bool {
         let (engine, opts, j0) = (search.engine, search.opts, search.j0);
         let m = select::margin(self.v, j0);
-        let mut scored = self.judge(round, step.validated, m, step.parameters_only);
+        let mut scored = self.judge(round, step.validated, j0, step.parameters_only);
         scored.sort_by(|a, b| a.2.total_cmp(&b.2));
+        if self.parameters_alone_suffice(round, &mut scored, search) {
+            return true;
+        }
         // Two effects can mask each other so that neither fits alone: when
         // the best single extension leaves the fit far from the noise level,
         // pairs of the best-fitting candidates are fitted jointly.
@@ -150,44 +154,67 @@ impl Greedy {
         let Some(best) = scored.first().cloned() else {
             return false;
         };
+        let joint = !best.1.deck_values.is_empty();
         self.accept_single(round, best, &scored, m, engine.data);
+        if let (true, Some(vp), Some(last)) =
+            (joint, step.parameters_only, self.findings.last_mut())
+        {
+            // What it was judged against: the deck's parameters refitted alone.
+            last.validation_error_before = vp;
+        }
+        if joint {
+            // The next round's reference for candidates fitted with the
+            // deck's parameters held: the new model with its damping refitted
+            // on each fold, as theirs will be.
+            if let Some(bf) =
+                engine.fit(&FitRequest::damping(&self.current, &self.damp, &engine.all))
+            {
+                self.v = engine.validate(None, &self.current, &bf);
+            }
+        }
         self.reestimate_jointly(engine);
         self.choose_damping_form_again(search);
         true
     }
 
     /// The validated candidates that pass (their fit inside the bounds, the
-    /// uncertainty below the value, the validation error below the current
-    /// one by more than the margin `m`); the others are recorded as rejected.
-    /// A candidate fitted along with the deck's parameters must also beat
-    /// those parameters refitted alone (`parameters_only`, a validation
-    /// cost): the parameter-only explanation competes on equal terms.
+    /// uncertainty below the value, the validation error below the
+    /// reference by more than the margin); the others are recorded as
+    /// rejected. The reference of a candidate fitted with the deck's
+    /// parameters held is the current validation error; that of a candidate
+    /// fitted along with the deck's parameters is those parameters refitted
+    /// alone (`parameters_only`, a validation cost), so that the
+    /// parameter-only explanation competes on equal terms: both refit the
+    /// deck's parameters on each training fold, where the current error
+    /// keeps the values the update fitted to all the data, held-out lines
+    /// included.
     fn judge(
         &mut self,
         round: usize,
         validated: Vec<(Hypothesis, HypFit, f64)>,
-        m: f64,
+        j0: f64,
         parameters_only: Option<f64>,
     ) -> Vec<(Hypothesis, HypFit, f64)> {
         let v_cur = self.v;
         let mut scored = Vec::new();
         for (h, f, v) in validated {
-            let v_params = parameters_only.filter(|vp| !f.deck_values.is_empty() && *vp < v_cur);
+            let (reference, against) = match parameters_only {
+                Some(vp) if !f.deck_values.is_empty() => {
+                    (vp, " (the deck's parameters refitted alone)")
+                }
+                _ => (v_cur, ""),
+            };
+            let m = select::margin(reference, j0);
             let reason = if f.on_bound {
                 Some("fit ends on a bound".to_string())
             } else if f.std.is_some_and(|s| !(s < f.value.unwrap_or(0.0))) {
                 Some("uncertainty exceeds the value".to_string())
-            } else if !(v < v_cur - m) {
+            } else if !(v < reference - m) {
                 Some(format!(
-                    "validation error {v:.4} not below {:.4} − margin {m:.4}",
-                    v_cur
+                    "validation error {v:.4} not below {reference:.4}{against} − margin {m:.4}"
                 ))
             } else {
-                v_params.filter(|vp| !(v < vp - m)).map(|vp| {
-                    format!(
-                        "validation error {v:.4} not below {vp:.4} (the deck's parameters refitted alone) − margin {m:.4}"
-                    )
-                })
+                None
             };
             match reason {
                 Some(r) => self.rejected.push(Rejected {
@@ -201,6 +228,68 @@ impl Greedy {
             }
         }
         scored
+    }
+
+    /// The best candidate fitted along with the deck's parameters is
+    /// dropped when the parameters alone, refitted from the values its joint
+    /// fit gave them, fit the data as well (within the margin of its cost):
+    /// it only stood in for a parameter-only fit that had stopped short.
+    /// Those parameters then become the current model's and every
+    /// candidate of the round is set aside (they were fitted on the old
+    /// one); returns true then, and the search goes on from there.
+    fn parameters_alone_suffice(
+        &mut self,
+        round: usize,
+        scored: &mut Vec<(Hypothesis, HypFit, f64)>,
+        search: &Search,
+    ) -> bool {
+        let engine = search.engine;
+        let Some((h, f, v)) = scored.first().cloned() else {
+            return false;
+        };
+        if f.deck_values.is_empty() {
+            return false;
+        }
+        let Some(jf) =
+            joint_screen::parameters_only_from(engine, &self.current, &self.damp, &f.deck_values)
+        else {
+            return false;
+        };
+        let m = select::margin(f.cost, search.j0);
+        if !(jf.cost < f.cost + m && jf.cost < self.cost) {
+            return false;
+        }
+        let base = model::updated_deck(&self.base, &jf.deck_values);
+        let current = apply_accepted(&base, &self.accepted);
+        let Some(bf) = engine.fit(&FitRequest::damping(&current, &jf.damping, &engine.all)) else {
+            return false;
+        };
+        for (o, fo, vo) in scored.drain(..) {
+            let reason = if o.label == h.label {
+                format!(
+                    "the deck's parameters alone, refitted from the values of its joint fit, cost {:.4} against its {:.4} + margin {m:.4}; taken instead",
+                    jf.cost, f.cost
+                )
+            } else {
+                format!(
+                    "the deck's parameters alone explain as much as {} did",
+                    h.label
+                )
+            };
+            self.rejected.push(Rejected {
+                label: o.label.clone(),
+                round: round + 1,
+                value: fo.value,
+                validation_error: if o.label == h.label { v } else { vo },
+                reason,
+            });
+        }
+        self.v = engine.validate(None, &current, &bf);
+        self.base = base;
+        self.current = current;
+        self.damp = bf.damping.clone();
+        self.cost = bf.cost;
+        true
     }
 
     /// Accept the pair `p` (both extensions, fitted jointly with the

@@ -170,6 +170,30 @@ pub(super) fn parameters_only_validation(
     Some(refit::validate_joint(engine, &problem, &jf))
 }
 
+/// `base` with only the deck's parameters fitted, from the values `start`
+/// (a candidate's joint fit) and from p̄ = 0, the better; `None` when the
+/// deck has none. A candidate fitted along with the parameters may have
+/// won only because the parameter-only fit stopped short of its optimum:
+/// from the values the joint fit found, the parameters alone may reach it.
+pub(super) fn parameters_only_from(
+    engine: &Engine,
+    base: &Deck,
+    damp: &DampingState,
+    start: &crate::model::ParameterValues,
+) -> Option<refit::JointFit> {
+    let problem = Joint::with_deck_parameters(base, vec![]);
+    if problem.deck_params.is_empty() {
+        return None;
+    }
+    let from: Vec<f64> = problem
+        .deck_params
+        .iter()
+        .map(|n| start.get(n).copied().unwrap_or(0.0))
+        .collect();
+    let starts = vec![from, vec![0.0; problem.deck_params.len()]];
+    refit::fit_joint(engine, &problem, &starts, damp, &engine.all, FULL_FIT)
+}
+
 /// The deck's parameters of `problem` (no extension parameter) fitted from
 /// p̄ = 0: resonance stage, then the FRFs with the damping.
 fn deck_parameters_fit(
