@@ -59,10 +59,12 @@ pub fn columns(
     let lines: Vec<usize> = (0..data.omegas.len()).filter(|&l| mask.lines[l]).collect();
     let params: Vec<usize> = (0..np).filter(|&j| free[j]).collect();
     let nc = data.channels.len();
-    // ∂H_c(ω_l) of each free parameter, one column per (channel, parameter).
+    // ∂H_c(ω_l) of each free parameter: the kernels times the coefficients,
+    // one channel's block of columns at a time into the same two buffers
+    // (the whole product would be lines × channels·parameters twice over,
+    // megabytes written once and read once).
     let (kernel, split) = kernels(pt, data, &lines);
     let coef = parameter_coefficients(pt, &params, split);
-    let dh = complex_product(kernel.0.as_ref(), kernel.1.as_ref(), coef.as_ref());
     let pairs = row_pairs(data, mask, &lines, pt.pred);
     let shape = (data_rows(data, mask) + extra_rows, free.len());
     let mut jac = match storage {
@@ -72,20 +74,33 @@ pub fn columns(
         }
         _ => Mat::<f64>::zeros(shape.0, shape.1),
     };
-    fill(&mut jac, &dh, &pairs, |c, k| {
-        (k < params.len()).then(|| (c * params.len() + k, params[k]))
-    });
+    let nf = params.len();
+    let mut dh = (
+        Mat::<f64>::zeros(lines.len(), nf),
+        Mat::<f64>::zeros(lines.len(), nf),
+    );
+    for (c, pairs) in pairs.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
+        let block = coef.as_ref().subcols(c * nf, nf);
+        complex_product_into(&mut dh, kernel.0.as_ref(), kernel.1.as_ref(), block);
+        for (k, &j) in params.iter().enumerate() {
+            fill(jac.col_as_slice_mut(j), &dh, k, pairs);
+        }
+    }
     // Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) / d_r².
     let nd = pt.damping.len();
     let a = Mat::from_fn(pt.modes.model.omega2.len(), nc, |r, c| {
         pt.modes.model.coeff[c][r]
     });
+    let mut dh = (
+        Mat::<f64>::zeros(lines.len(), nc),
+        Mat::<f64>::zeros(lines.len(), nc),
+    );
     for k in (0..nd).filter(|&k| free[np + k]) {
         let (qr, qi) = damping_kernel(pt, data, &lines, k);
-        let dh = complex_product(qr.as_ref(), qi.as_ref(), a.as_ref());
-        fill(&mut jac, &dh, &pairs, |c, kk| {
-            (kk == 0).then_some((c, np + k))
-        });
+        complex_product_into(&mut dh, qr.as_ref(), qi.as_ref(), a.as_ref());
+        for (c, pairs) in pairs.iter().enumerate() {
+            fill(jac.col_as_slice_mut(np + k), &dh, c, pairs);
+        }
     }
     jac
 }
@@ -214,18 +229,17 @@ fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> (Ma
     (qr, qi)
 }
 
-/// (G_r + iG_i)·C for a real C, as its real and imaginary parts.
-fn complex_product(
+/// (G_r + iG_i)·C for a real C, its real and imaginary parts written into
+/// `out` (shaped rows of G × columns of C).
+fn complex_product_into(
+    out: &mut (Mat<f64>, Mat<f64>),
     gr: MatRef<'_, f64>,
     gi: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
-) -> (Mat<f64>, Mat<f64>) {
+) {
     let par = Par::Seq;
-    let mut re = Mat::<f64>::zeros(gr.nrows(), c.ncols());
-    let mut im = Mat::<f64>::zeros(gr.nrows(), c.ncols());
-    matmul(re.as_mut(), Accum::Replace, gr, c, 1.0, par);
-    matmul(im.as_mut(), Accum::Replace, gi, c, 1.0, par);
-    (re, im)
+    matmul(out.0.as_mut(), Accum::Replace, gr, c, 1.0, par);
+    matmul(out.1.as_mut(), Accum::Replace, gi, c, 1.0, par);
 }
 
 /// One pair of data rows (Re, Im) of the Jacobian: the index of its line
@@ -271,28 +285,16 @@ fn row_pairs(
     pairs
 }
 
-/// Write w·Re, w·Im of (iω)^k ∂H / H into `jac`: `slot(c, k)` gives, for
-/// channel c, the column of `dh` and of `jac` for its k-th derivative. One
-/// column at a time, so that the writes are contiguous.
-fn fill(
-    jac: &mut Mat<f64>,
-    dh: &(Mat<f64>, Mat<f64>),
-    pairs: &[Vec<RowPair>],
-    slot: impl Fn(usize, usize) -> Option<(usize, usize)>,
-) {
-    for (c, pairs) in pairs.iter().enumerate() {
-        let mut k = 0;
-        while let Some((src, dst)) = slot(c, k) {
-            let (re, im) = (dh.0.col_as_slice(src), dh.1.col_as_slice(src));
-            let col = jac.col_as_slice_mut(dst);
-            for p in pairs {
-                if let Some(factor) = p.factor {
-                    let d = c64::new(re[p.line], im[p.line]) * factor;
-                    col[p.row] = p.weight * d.re;
-                    col[p.row + 1] = p.weight * d.im;
-                }
-            }
-            k += 1;
+/// Write w·Re, w·Im of (iω)^k ∂H / H into one column of the Jacobian
+/// (`col`): ∂H over the used lines is column `src` of `dh`, the rows are
+/// one channel's `pairs`.
+fn fill(col: &mut [f64], dh: &(Mat<f64>, Mat<f64>), src: usize, pairs: &[RowPair]) {
+    let (re, im) = (dh.0.col_as_slice(src), dh.1.col_as_slice(src));
+    for p in pairs {
+        if let Some(factor) = p.factor {
+            let d = c64::new(re[p.line], im[p.line]) * factor;
+            col[p.row] = p.weight * d.re;
+            col[p.row + 1] = p.weight * d.im;
         }
     }
 }
