@@ -243,7 +243,7 @@ struct DiagnoseArgs {
     #[arg(long)]
     json: bool,
     /// Options of the first step, the update of the deck's own parameters
-    /// (`--method paper` unless given).
+    /// (`frfup update`'s defaults unless given).
     #[command(flatten)]
     settings: UpdateSettings,
 }
@@ -530,7 +530,7 @@ fn diagnose(a: DiagnoseArgs, g: &Global) -> Result<(), CommandError> {
         test: a.test,
         out: a.out.clone(),
         options: frfup::diagnosis::DiagnoseOptions {
-            update: a.settings.resolve(UpdateMethod::Paper),
+            update: a.settings.resolve(UpdateMethod::Robust),
             skip_update: a.no_update,
             max_findings: a.max_findings,
             ..Default::default()

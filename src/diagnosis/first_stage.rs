@@ -1,10 +1,14 @@
-//! Step 1: the deck's own parameters updated ([`crate::updating::update`],
-//! the paper's method on a few updating frequencies), polished on all lines
-//! and channels, and kept only if the damping-profiled fit does not worsen.
+//! Step 1: the deck's own parameters updated ([`crate::updating::update`]
+//! with the diagnosis's update options: by default `frfup update`'s own
+//! pipeline, whose full-band estimate fits every line and channel and holds
+//! a parameter the data do not determine at the deck's value), polished on
+//! all lines and channels when the update did not end in that estimate (the
+//! paper's method works on a few updating frequencies), and kept only if
+//! the damping-profiled fit does not worsen.
 
 use frfup_parsers::deck::Deck;
 
-use super::fit;
+use super::fit::{self, DampingState};
 use super::search::Search;
 use super::select::FitRequest;
 use crate::model::{self, ParameterValues};
@@ -28,21 +32,20 @@ pub(super) fn update_own_parameters(search: &Search) -> FirstStage {
         parameters: ParameterValues::new(),
         note: None,
     };
-    if search.updates_parameters() {
-        paper_update(search, &mut stage);
-    }
-    if search.updates_parameters() {
+    let estimated = search.updates_parameters() && update(search, &mut stage);
+    if search.updates_parameters() && !estimated {
         polish(search, &mut stage);
     }
     keep_if_no_worse(search, &mut stage);
     stage
 }
 
-/// The paper's update of the deck's parameters; on failure the deck's
-/// values stay and the note says why.
-fn paper_update(search: &Search, stage: &mut FirstStage) {
+/// The update of the deck's parameters; on failure the deck's values stay
+/// and the note says why. True when its result is a full-band estimate.
+fn update(search: &Search, stage: &mut FirstStage) -> bool {
     match updating::update(search.deck, search.test, &search.opts.update) {
         Ok(res) => {
+            let estimated = ends_in_estimate(&res);
             stage.parameters = res.parameter_values();
             stage.deck = model::updated_deck(search.deck, &stage.parameters);
             stage.note = Some(format!(
@@ -50,9 +53,45 @@ fn paper_update(search: &Search, stage: &mut FirstStage) {
                 res.stop.name(),
                 res.iterations.len().saturating_sub(1)
             ));
+            estimated
         }
-        Err(e) => stage.note = Some(format!("update failed ({e}); deck values kept")),
+        Err(e) => {
+            stage.note = Some(format!("update failed ({e}); deck values kept"));
+            false
+        }
     }
+}
+
+/// The update's result is its full-band estimate (not the first stage's
+/// values kept after the estimate was rejected).
+fn ends_in_estimate(res: &updating::UpdateResult) -> bool {
+    res.estimate.is_some() && res.stop != updating::StopReason::Diverged
+}
+
+/// The deck's parameters updated on `ext` (the deck with extensions) and,
+/// when the update did not end in its full-band estimate, polished from its
+/// values with the damping `damp` (`None`: neither gave values).
+pub(super) fn parameters_on(
+    search: &Search,
+    ext: &Deck,
+    damp: &DampingState,
+) -> Option<ParameterValues> {
+    let engine = search.engine;
+    let res = updating::update(ext, search.test, &search.opts.update).ok();
+    if let Some(res) = res.as_ref().filter(|r| ends_in_estimate(r)) {
+        return Some(res.parameter_values());
+    }
+    let start = res.map(|r| r.parameter_values()).unwrap_or_default();
+    fit::fit_deck_parameters(
+        ext,
+        &start,
+        damp,
+        engine.data,
+        &engine.all,
+        8,
+        engine.counter(),
+    )
+    .map(|(v, _, _)| v)
 }
 
 /// Polish the deck's parameters on all lines and channels (the paper's

@@ -67,7 +67,7 @@ pub struct DiagnoseOptions {
 impl Default for DiagnoseOptions {
     fn default() -> Self {
         DiagnoseOptions {
-            update: UpdateOptions::paper(),
+            update: UpdateOptions::default(),
             skip_update: false,
             max_findings: 4,
             fitted_per_round: 8,

@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
+use super::first_stage;
 use super::fit::{self, DampingForm, DampingState};
 use super::greedy::{self, Greedy};
 use super::hypotheses::damping as hdamp;
@@ -14,7 +15,6 @@ use super::select::{self, Engine, FitRequest};
 use super::{DiagnoseError, DiagnoseOptions};
 use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
-use crate::updating;
 
 /// The inputs of a diagnosis and what every stage derives from them once.
 pub(super) struct Search<'a> {
@@ -144,28 +144,15 @@ impl<'a> Search<'a> {
     }
 
     /// Update the deck's own parameters again on the deck with the accepted
-    /// extensions (the paper's update, then the polish on all lines and
-    /// channels); `g` takes them when they lower its cost.
+    /// extensions ([`first_stage::parameters_on`]); `g` takes them when they
+    /// lower its cost.
     fn update_extended_deck(&self, g: &mut Greedy) {
         let engine = self.engine;
         let mut ext = self.deck.clone();
         for (h, v) in &g.accepted {
             ext = h.apply(&ext, *v);
         }
-        let paper = updating::update(&ext, self.test, &self.opts.update)
-            .map(|r| r.parameter_values())
-            .unwrap_or_default();
-        let polished = fit::fit_deck_parameters(
-            &ext,
-            &paper,
-            &g.damp,
-            engine.data,
-            &engine.all,
-            8,
-            engine.counter(),
-        )
-        .map(|(v, _, _)| v);
-        let Some(values) = polished else {
+        let Some(values) = first_stage::parameters_on(self, &ext, &g.damp) else {
             return;
         };
         let cand = model::updated_deck(&ext, &values);

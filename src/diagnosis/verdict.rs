@@ -29,8 +29,9 @@ pub enum Verdict {
     /// No extension, and the deck's own parameters explain the test to the
     /// noise level with plausible changes.
     NothingMissing,
-    /// No extension; the parameters reach the noise level only with
-    /// implausibly large changes, which may stand for missing physics.
+    /// No physical extension (data errors may have been undone); the
+    /// parameters reach the noise level only with implausibly large
+    /// changes, which may stand for missing physics.
     AbsorbedByParameters { large: Vec<(String, f64)> },
     /// No hypothesis explains the disagreement, which stays above the noise level.
     Unexplained { frf_error: f64 },
@@ -76,7 +77,14 @@ impl Verdict {
                 ))
             })
             .collect();
+        // Data errors undone are corrections of the test, not explanations
+        // of what the model lacks: with nothing else found, implausible
+        // parameter changes still stand for missing physics.
+        let physical = findings.iter().any(|f| !f.physics.is_data_error());
         match (findings.is_empty(), at_noise_level) {
+            (false, true) if !physical && !large.is_empty() => {
+                Verdict::AbsorbedByParameters { large }
+            }
             (false, true) if pairs.is_empty() => Verdict::Explained,
             (false, true) => Verdict::CannotTellApart { pairs },
             (false, false) => Verdict::PartlyExplained { frf_error },
@@ -127,7 +135,7 @@ impl Verdict {
                     .map(|(n, p)| format!("{n} {:+.0} %", 100.0 * p))
                     .collect();
                 format!(
-                    "No extension was accepted, but the deck's parameters reach the noise level only with implausibly large changes ({}): these may stand for physics the deck lacks.",
+                    "No physical extension was accepted, but the deck's parameters reach the noise level only with implausibly large changes ({}): these may stand for physics the deck lacks.",
                     list.join(", ")
                 )
             }

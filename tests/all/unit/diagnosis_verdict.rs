@@ -54,3 +54,46 @@ fn two_explanations_as_good_are_not_a_conclusion() {
         Verdict::PartlyExplained { .. }
     ));
 }
+
+/// A corrected channel is not an explanation of what the model lacks: with
+/// only data errors found, a deck parameter moved by more than 30 % still
+/// makes the verdict "parameters absorb it" (seed-1 benchmark case 005: a
+/// reversed channel undone, a 0.04 kg added mass taken up by a deck mass
+/// +41 %); within 30 % the corrected test is explained. A physical finding
+/// beside the large change keeps its own verdict.
+#[test]
+fn data_errors_alone_do_not_hide_a_large_parameter_change() {
+    let reversed = Finding {
+        physics: Physics::ReversedChannel,
+        label: "reversed-channel at 2+x".into(),
+        ..finding(&[], None)
+    };
+    let moved: frfup::model::ParameterValues =
+        [("m_mass2".to_string(), 0.41)].into_iter().collect();
+    let v = Verdict::from_parts(std::slice::from_ref(&reversed), true, 1.19, &moved);
+    assert_eq!(
+        v,
+        Verdict::AbsorbedByParameters {
+            large: vec![("m_mass2".into(), 0.41)]
+        }
+    );
+    assert!(!v.is_conclusive());
+    assert!(
+        v.sentence()
+            .starts_with("No physical extension was accepted"),
+        "{}",
+        v.sentence()
+    );
+    assert!(v.sentence().contains("m_mass2 +41 %"), "{}", v.sentence());
+    let small: frfup::model::ParameterValues =
+        [("m_mass2".to_string(), 0.29)].into_iter().collect();
+    assert_eq!(
+        Verdict::from_parts(std::slice::from_ref(&reversed), true, 1.19, &small),
+        Verdict::Explained
+    );
+    let with_mass = [reversed, finding(&[], None)];
+    assert_eq!(
+        Verdict::from_parts(&with_mass, true, 0.9, &moved),
+        Verdict::Explained
+    );
+}
