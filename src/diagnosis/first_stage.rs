@@ -76,22 +76,34 @@ pub(super) fn parameters_on(
     ext: &Deck,
     damp: &DampingState,
 ) -> Option<ParameterValues> {
-    let engine = search.engine;
     let res = updating::update(ext, search.test, &search.opts.update).ok();
     if let Some(res) = res.as_ref().filter(|r| ends_in_estimate(r)) {
         return Some(res.parameter_values());
     }
     let start = res.map(|r| r.parameter_values()).unwrap_or_default();
+    polished(search, ext, &start, damp).map(|(v, _)| v)
+}
+
+/// The deck's parameters fitted on all lines and channels from `start`
+/// with the damping `damp` (at most 8 Levenberg–Marquardt iterations):
+/// the values and the data's mean squared residual.
+fn polished(
+    search: &Search,
+    deck: &Deck,
+    start: &ParameterValues,
+    damp: &DampingState,
+) -> Option<(ParameterValues, f64)> {
+    let engine = search.engine;
     fit::fit_deck_parameters(
-        ext,
-        &start,
+        deck,
+        start,
         damp,
         engine.data,
         &engine.all,
         8,
         engine.counter(),
     )
-    .map(|(v, _, _)| v)
+    .map(|(v, _, c)| (v, c))
 }
 
 /// Polish the deck's parameters on all lines and channels (the paper's
@@ -106,15 +118,7 @@ fn polish(search: &Search, stage: &mut FirstStage) {
     )) else {
         return;
     };
-    if let Some((values, _, c)) = fit::fit_deck_parameters(
-        search.deck,
-        &stage.parameters,
-        &f0.damping,
-        engine.data,
-        &engine.all,
-        8,
-        engine.counter(),
-    ) {
+    if let Some((values, c)) = polished(search, search.deck, &stage.parameters, &f0.damping) {
         if c < f0.cost {
             stage.deck = model::updated_deck(search.deck, &values);
             stage.parameters = values;
