@@ -106,7 +106,7 @@ fn garteur(deck_path: &str, uff: &str, dir: &str, repeat: usize) {
         "n": fe.dofs.len(),
         "parameters": r.parameter_names,
         "updating_frequencies_hz": r.updating_frequencies.hz(),
-        "excitation_row": meas.excitation_row,
+        "excitation_dof": meas.excitation_eq,
         "modes": r.modes,
         "eigen_count": n_eig,
         "svd_eps": opts.svd_eps,

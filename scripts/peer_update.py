@@ -67,7 +67,7 @@ def run(d):
     meas = np.load(os.path.join(d, "measured.npy"))
     h_test = np.load(os.path.join(d, "h_test.npy"))
     omegas = 2 * np.pi * np.array(prob["updating_frequencies_hz"])
-    k_row = prob["excitation_row"]
+    k_dof = prob["excitation_dof"]
     n_md, n_eig = prob["modes"], prob["eigen_count"]
     eps, tol, max_iter = prob["svd_eps"], prob["tol"], prob["max_iter"]
     btol, pmax = prob["basis_tolerance"], prob["max_parameter"]
@@ -111,7 +111,7 @@ def run(d):
             u = Pm_pinv @ h_test[i]
             W = np.column_stack([Pm_pinv.T @ ((Kj[j] - w * w * Mj[j]) @ u) for j in range(npar)])
             A_blocks.append(H @ W)
-            hn = H[:, k_row]
+            hn = (Pm * dfac) @ P[k_dof, :]
             fe.append(hn)
             b_blocks.append(hn - h_test[i])
         sf = []

@@ -23,8 +23,10 @@ pub struct MeasuredDofs {
     /// Node and FE DOF of each measured DOF (the values above are in the
     /// FE DOF's sense).
     pub points: Vec<(u32, crate::model::Dof)>,
-    /// Row of the excitation DOF among the measured DOFs.
-    pub excitation_row: usize,
+    /// FE equation index of the excitation DOF (measured or not: the
+    /// updating equations take the model's mode shapes there, §2.2 with the
+    /// SEREP expansion, so a driving-point FRF is not required).
+    pub excitation_eq: usize,
     pub excitation_label: String,
     /// Frequency lines (Hz).
     pub lines_hz: Vec<f64>,
@@ -91,7 +93,7 @@ impl MeasuredDofs {
             equations: Vec::new(),
             labels: Vec::new(),
             points: Vec::new(),
-            excitation_row: 0,
+            excitation_eq: ex_eq,
             excitation_label: excitation_label.clone(),
             lines_hz: test.frequencies_hz.clone(),
             signed_real: Vec::new(),
@@ -133,14 +135,11 @@ impl MeasuredDofs {
         if !unmatched.is_empty() {
             warnings.push(UpdateWarning::UnmatchedChannels { labels: unmatched });
         }
-        out.excitation_row = out
-            .equations
-            .iter()
-            .position(|&e| e == ex_eq)
-            .ok_or_else(|| UpdateError::ExcitationNotMeasured {
+        if !out.equations.contains(&ex_eq) {
+            warnings.push(UpdateWarning::DrivingPointNotMeasured {
                 excitation: excitation_label,
-                measured: out.labels.clone(),
-            })?;
+            });
+        }
         Ok(out)
     }
 

@@ -58,11 +58,6 @@ pub enum UpdateError {
     UnknownExcitation {
         excitation: String,
     },
-    /// The excitation DOF is not among the measured response DOFs.
-    ExcitationNotMeasured {
-        excitation: String,
-        measured: Vec<String>,
-    },
     /// A channel's value count differs from the frequency line count.
     ChannelLength {
         channel: String,
@@ -101,11 +96,6 @@ impl fmt::Display for UpdateError {
             UpdateError::UnknownExcitation { excitation } => {
                 write!(f, "the excitation DOF {excitation} is not a free DOF of the model")
             }
-            UpdateError::ExcitationNotMeasured { excitation, measured } => write!(
-                f,
-                "the excitation DOF {excitation} is not among the measured DOFs ({}); the method needs the driving-point FRF",
-                measured.join(", ")
-            ),
             UpdateError::ChannelLength { channel, values, lines } => {
                 write!(f, "channel {channel} has {values} values but the test has {lines} frequency lines")
             }
@@ -140,6 +130,9 @@ pub enum UpdateWarning {
     OtherReferences { excitation: String, ignored: usize },
     /// Two channels measure the same FE DOF; the later one is ignored.
     DuplicateChannel { label: String },
+    /// The excitation DOF was not measured: the model's mode shapes at it
+    /// stand in for the driving point in the updating equations.
+    DrivingPointNotMeasured { excitation: String },
     /// A candidate updating frequency was not used.
     SkippedFrequency(SkippedFrequency),
     /// Test resonances of a free-free model below half its first elastic
@@ -213,6 +206,10 @@ impl fmt::Display for UpdateWarning {
             UpdateWarning::DuplicateChannel { label } => {
                 write!(f, "channel {label} measures a DOF already measured; ignored")
             }
+            UpdateWarning::DrivingPointNotMeasured { excitation } => write!(
+                f,
+                "the driving point {excitation} was not measured: the model's mode shapes at {excitation} stand in for it in the updating equations (SEREP expansion)"
+            ),
             UpdateWarning::SkippedFrequency(s) => {
                 write!(f, "updating frequency {:.4} Hz skipped: {}", s.requested_hz, s.reason)
             }

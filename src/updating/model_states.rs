@@ -278,7 +278,7 @@ fn view(
     };
     let modes_hz = modes.frequencies_hz();
     let shapes = modes.at(&meas.equations);
-    let input = meas.equations[meas.excitation_row];
+    let input = meas.excitation_eq;
     let omegas: Vec<f64> = meas.lines_hz.iter().map(|f| TWO_PI * f).collect();
     let (receptance, error) = match choice {
         DampingChoice::Deck(d) => {

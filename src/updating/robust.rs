@@ -251,7 +251,11 @@ fn deck_frequencies(deck: &Deck, test: &MeasuredFrfs, offset: f64) -> Option<Vec
 /// returned iterate and its best one by SFDAC mean (a converged iterate can
 /// fit worse than an earlier one).
 fn starts(result: &UpdateResult, np: usize) -> Vec<Vec<f64>> {
-    let mut s = vec![vec![0.0; np], result.parameters().to_vec()];
+    let mut s = vec![vec![0.0; np]];
+    let returned = result.parameters().to_vec();
+    if !s.contains(&returned) {
+        s.push(returned);
+    }
     let best = result
         .iterations
         .iter()

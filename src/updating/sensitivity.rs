@@ -13,8 +13,11 @@
 //!   with the perturbed inverse, H̄_i = (Z̄ + δI)⁻¹ is applied literally.
 //! * b_i = h_i^n − h̄_i (Eq. 9), h_i^n = Ψ_m(Λ − ω²)⁻¹ψ_kᵀ the SEREP model's
 //!   receptance for a unit force at the excitation DOF k (for the SVD inverse
-//!   this is exactly the k-th column of H̄_i; the perturbed inverse is not used
-//!   for h^n, whose null-space part would scale with 1/δ).
+//!   and a measured k this is exactly the k-th column of H̄_i; the perturbed
+//!   inverse is not used for h^n, whose null-space part would scale with
+//!   1/δ). ψ_k is the FE mode shapes' row at k, so k need not be measured:
+//!   the SEREP model's load Tᵀe_k = Ψ_m⁺ᵀψ_kᵀ gives the same h^n, and the
+//!   derivation of A_i does not involve the load.
 //!
 //! Natural-frequency rows (Eq. 19–20), for an FE mode φ_r (mass-normalised)
 //! paired with a test resonance ω̄_r: A_r,j = −φ_rᵀ(∂K_j − ω_r²∂M_j)φ_r,
@@ -156,14 +159,14 @@ pub struct FrfEquations {
 }
 
 /// Form A_i, b_i at every updating frequency (ω_i in rad/s) and stack them.
-/// `measured[i]` is h̄_i at the measured DOFs; `excitation` the row of the
-/// excitation DOF among the measured DOFs.
+/// `measured[i]` is h̄_i at the measured DOFs; `excitation` ψ_k, the basis
+/// modes' values at the excitation DOF (N_md).
 pub fn frf_equations(
     basis: &SerepBasis,
     sens: &ModalSensitivities,
     omegas: &[f64],
     measured: &[Vec<f64>],
-    excitation: usize,
+    excitation: &[f64],
     method: InverseMethod,
 ) -> Result<FrfEquations, SensitivityError> {
     let n_ex = basis.measured_len();
@@ -216,11 +219,7 @@ pub fn frf_equations(
             }
         }
         let hn: Vec<f64> = (0..n_ex)
-            .map(|e| {
-                (0..nm)
-                    .map(|k| pm[(e, k)] * d[k] * pm[(excitation, k)])
-                    .sum()
-            })
+            .map(|e| (0..nm).map(|k| pm[(e, k)] * d[k] * excitation[k]).sum())
             .collect();
         for e in 0..n_ex {
             b.push(hn[e] - hbar[e]);

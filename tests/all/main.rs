@@ -19,6 +19,7 @@ mod cli_files;
 mod cli_help;
 mod cli_identify;
 mod cli_json;
+mod cli_layouts;
 mod cli_mac;
 mod cli_model;
 mod cli_progress;

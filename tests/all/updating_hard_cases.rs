@@ -5,7 +5,7 @@ use frfup::model::ParameterValues;
 use frfup::parsers::deck::{parse, Deck};
 use frfup::simulate::simulate;
 use frfup::testdata::MeasuredFrfs;
-use frfup::updating::{update, UpdateError, UpdateOptions, UpdateWarning};
+use frfup::updating::{update, UpdateOptions, UpdateWarning};
 
 use crate::campaign_support::{band, z_campaign};
 
@@ -36,16 +36,31 @@ fn opts() -> UpdateOptions {
     }
 }
 
+/// A fixed exciter whose driving point was not measured (tip node 16
+/// driven, nodes 2–15 measured): the model's mode shapes at the excitation
+/// stand in for it (SEREP expansion), the run says so, and the paper's
+/// method still recovers p3 = 1 (exact data: 1e-3, as with the driving
+/// point in `channels_matching_no_dof_are_listed_and_ignored`).
 #[test]
-fn excitation_not_measured_is_an_error_naming_it() {
+fn excitation_not_measured_is_a_warning_and_the_update_still_recovers_the_change() {
     let (d, test) = case("", &[("p3", 1.0)], 15);
-    let e = update(&d, &test, &opts()).unwrap_err();
+    let r = update(&d, &test, &opts()).unwrap();
+    let said = r.warnings.iter().any(|w| {
+        matches!(w, UpdateWarning::DrivingPointNotMeasured { excitation } if excitation.contains("16"))
+    });
+    assert!(said, "{:?}", r.warnings);
     assert!(
-        matches!(e, UpdateError::ExcitationNotMeasured { .. }),
-        "{e}"
+        r.warnings
+            .iter()
+            .any(|w| w.to_string().contains("not measured")),
+        "{:?}",
+        r.warnings
     );
-    let msg = e.to_string();
-    assert!(msg.contains("16") && msg.contains("driving-point"), "{msg}");
+    let p = r.parameters();
+    assert!((p[2] - 1.0).abs() < 1e-3, "{p:?}");
+    for (j, v) in p.iter().enumerate().filter(|&(j, _)| j != 2) {
+        assert!(v.abs() < 1e-3, "p{} = {v}", j + 1);
+    }
 }
 
 #[test]

@@ -115,7 +115,11 @@ impl IterationState {
             &sens,
             &problem.omegas,
             &problem.h_test,
-            meas.excitation_row,
+            &basis
+                .modes
+                .iter()
+                .map(|&r| modes.shapes[(meas.excitation_eq, r)])
+                .collect::<Vec<_>>(),
             opts.inverse,
         )
         .map_err(UpdateError::Sensitivity)?;

@@ -84,12 +84,14 @@ fn frf_sensitivity_matches_finite_difference() {
     let w = 0.5 * modes.omega2[1].sqrt() + 0.5 * modes.omega2[2].sqrt();
     let h0 = basis.modal_receptance(w * w).unwrap();
     let hbar: Vec<f64> = (0..4).map(|e| h0[(e, 3)]).collect();
+    // ψ_k at the excitation DOF 3 (measured here: the row of Ψ_m).
+    let psi_k: Vec<f64> = (0..basis.len()).map(|k_| basis.psi_m[(3, k_)]).collect();
     let eqs = frf_equations(
         &basis,
         &sens,
         &[w],
         std::slice::from_ref(&hbar),
-        3,
+        &psi_k,
         InverseMethod::Svd,
     )
     .unwrap();
@@ -107,7 +109,7 @@ fn frf_sensitivity_matches_finite_difference() {
         &sens,
         &[w],
         std::slice::from_ref(&hbar2),
-        3,
+        &psi_k,
         InverseMethod::Svd,
     )
     .unwrap();
@@ -125,7 +127,7 @@ fn frf_sensitivity_matches_finite_difference() {
         &sens,
         &[w],
         &[hbar2],
-        3,
+        &psi_k,
         InverseMethod::Perturb { relative: 1e-12 },
     )
     .unwrap();
