@@ -199,7 +199,7 @@ fn write_case(case: &frfup::benchmark::Case, dir: &Path, i: usize) -> Result<Gen
             case.structure.name(),
             if case.plane { "plane" } else { "space" }
         ),
-        layout: case.layout.name().to_string(),
+        layout: case.layout_label(),
         support: case.support.name().to_string(),
         damping: case.damping.name().to_string(),
         format: if case.binary { "58b" } else { "ascii" }.to_string(),

@@ -42,7 +42,7 @@ fn write_case(args: &Args, i: usize) -> Result<Written, String> {
             if case.plane { "plane" } else { "space" }
         ),
         support: case.support.name().to_string(),
-        layout: case.layout.name().to_string(),
+        layout: case.layout_label(),
         dofs: case.dofs,
         channels: case.points.len(),
         lines: case.lines_hz.len(),

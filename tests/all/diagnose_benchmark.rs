@@ -52,7 +52,9 @@ fn diagnosis_generator_same_seed_same_bytes() {
 /// The update benchmark's cases are what they were before the diagnosis
 /// effects were added (the fingerprint of case 0 of its subset, as the
 /// generator of its README figures made it; the 200 cases of seed 1 were
-/// compared byte for byte when this was written).
+/// compared byte for byte when this was written). Changed once since, on
+/// purpose: `truth.json` records whether the driving point was measured
+/// (a fifth of the cases leave it out, drawn from a stream of their own).
 #[test]
 fn update_generator_unchanged() {
     let c = generate(case_seed(16, 0), &GenOptions::small()).unwrap();
@@ -64,7 +66,7 @@ fn update_generator_unchanged() {
         &uff,
         truth.as_bytes(),
     ]);
-    assert_eq!(h, 0x5633_dacc_1f53_8d9d, "fingerprint {h:#x}");
+    assert_eq!(h, 0x8a94_3240_824f_a85a, "fingerprint {h:#x}");
 }
 
 /// Cases 0..48 of the subset's seed: valid decks, each effect at least

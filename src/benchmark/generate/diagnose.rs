@@ -103,7 +103,7 @@ fn try_case(seed: u64, plan: &[&str], rng: &mut Rng, opts: &GenOptions) -> Resul
         ..
     } = draw_damping_and_parameters(&mut st, n_modes, rng, opts)?;
     let fe = model::build(&nominal, &ParameterValues::new()).map_err(|e| e.to_string())?;
-    let (layout, fixed, points) = layout::draw(&st, &fe, rng)?;
+    let (layout, fixed, points) = layout::draw(&st, &fe, rng, false)?;
     let ref_deck = parse_deck(&st.deck_text("reference", &bare(&params)))?;
     let ref_modes = modes_hz(&ref_deck, &values, n_rb + n_modes + 1)?;
     if ref_modes.len() < n_rb + n_modes + 1 {

@@ -13,11 +13,15 @@ use crate::solvers::eigen::{lowest_modes, EigenOptions};
 /// DOFs), a fixed exciter or a roving hammer. The exciter (or the fixed
 /// sensor of the hammer test) is one of the points, chosen at random among
 /// the third that is farthest from a node line of the first elastic modes, as
-/// a test engineer would place it; the driving point is always measured.
+/// a test engineer would place it. The driving point is measured unless
+/// `omit_driving_point` (and at least six other points remain): a shaker
+/// with a force gauge and no accelerometer beside it, or a hammer that never
+/// hits the sensor's point.
 pub fn draw(
     st: &Structure,
     fe: &FeModel,
     rng: &mut Rng,
+    omit_driving_point: bool,
 ) -> Result<(LayoutKind, NodeDirection, Vec<NodeDirection>), String> {
     let mut dirs: Vec<i32> = if st.plane { vec![1, 3] } else { vec![1, 2, 3] };
     rng.shuffle(&mut dirs);
@@ -57,6 +61,9 @@ pub fn draw(
     } else {
         LayoutKind::RovingHammer
     };
+    if omit_driving_point && points.len() > 6 {
+        points.retain(|p| *p != fixed);
+    }
     Ok((layout, fixed, points))
 }
 
@@ -140,6 +147,7 @@ pub fn truth_json(c: &Case) -> serde_json::Value {
             "points": c.points.iter().map(dof).collect::<Vec<_>>(),
             "directions": dirs,
             "channels": c.points.len(),
+            "driving_point_measured": c.driving_point_measured(),
         },
         "noise": c.noise,
         "damping": damping,
