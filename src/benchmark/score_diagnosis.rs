@@ -10,6 +10,11 @@
 //! spring within a factor 2, a damping within 30 % (its equivalent viscous
 //! ratio at every elastic band mode of the truth). A *false finding* is one
 //! whose class is not in the truth.
+//!
+//! A true effect not placed by any finding is *tied* when a finding names
+//! it among the alternatives the data cannot tell apart (`alternatives` of
+//! `diagnosis.json`: the issue's outcome (b), "X and Y explain the data
+//! equally well"). Ties are counted apart from the strict score, never in it.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -27,6 +32,8 @@ pub struct EffectScore {
     pub frf_change: f64,
     pub physics: bool,
     pub place: bool,
+    /// Not placed, but named among a finding's indistinguishable alternatives.
+    pub tied: bool,
     /// Fitted value within tolerance (None: no value to compare, or not found).
     pub value_ok: Option<bool>,
     /// Fitted / true value (masses, springs) or the worst ζ ratio (damping).
@@ -57,6 +64,11 @@ impl DiagScore {
         } else {
             self.effects.iter().all(|e| e.place)
         }
+    }
+    /// [`DiagScore::right`], or every effect not placed tied (named among
+    /// the alternatives the data cannot tell apart).
+    pub fn right_or_tied(&self) -> bool {
+        self.right() || (!self.is_control() && self.effects.iter().all(|e| e.place || e.tied))
     }
 }
 
@@ -200,10 +212,24 @@ pub fn score_diagnosis(truth: &Value, deck: &Deck, diagnosis: Option<&Value>) ->
                     .any(|&a| nodes.iter().any(|&b| close(a, b)))
         });
         let check = placed.and_then(|f| value_check(e, f, &modes));
+        let matches = |a: &Value| {
+            a.get("physics").and_then(Value::as_str) == Some(class.as_str())
+                && (nodes.is_empty()
+                    || nodes_of(a)
+                        .iter()
+                        .any(|&x| nodes.iter().any(|&b| close(x, b))))
+        };
+        let tied = placed.is_none()
+            && findings.iter().any(|f| {
+                f.get("alternatives")
+                    .and_then(Value::as_array)
+                    .is_some_and(|alts| alts.iter().any(matches))
+            });
         out.effects.push(EffectScore {
             frf_change: e.get("frf_change").and_then(Value::as_f64).unwrap_or(0.0),
             physics: !same.is_empty(),
             place: placed.is_some(),
+            tied,
             value_ok: check.map(|c| c.0),
             value_ratio: check.map(|c| c.1),
             class,

@@ -132,6 +132,7 @@ pub(super) fn damping_finding(
         validation_error_after: v_fitted,
         label: format!("{} damping", damp.form.name()),
         indistinguishable_from: vec![],
+        alternatives: vec![],
         tell_apart: None,
     })
 }

@@ -320,6 +320,7 @@ impl Greedy {
                 validation_error_after: p.v,
                 label: format!("{} (fitted jointly with the next)", h.label),
                 indistinguishable_from: vec![],
+                alternatives: vec![],
                 tell_apart: None,
             });
         }
@@ -395,6 +396,10 @@ impl Greedy {
             validation_error_after: v,
             label: h.label.clone(),
             indistinguishable_from: alternatives,
+            alternatives: close
+                .iter()
+                .map(|(o, _, _)| (o.physics, o.nodes.clone()))
+                .collect(),
             tell_apart,
         });
         self.accepted.push((h, f.value));

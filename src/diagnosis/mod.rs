@@ -116,6 +116,9 @@ pub struct Finding {
     pub label: String,
     /// Other hypotheses the data cannot tell apart from this one.
     pub indistinguishable_from: Vec<String>,
+    /// The same hypotheses as (physics, nodes), for tools that read
+    /// `diagnosis.json`.
+    pub alternatives: Vec<(Physics, Vec<u32>)>,
     /// The measurement that would tell it from the closest of them.
     pub tell_apart: Option<discriminate::TellApart>,
 }

@@ -84,6 +84,10 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
                 },
                 "description": f.label,
                 "indistinguishable_from": f.indistinguishable_from,
+                "alternatives": f.alternatives.iter().map(|(p, nodes)| json!({
+                    "physics": p.name(),
+                    "nodes": nodes,
+                })).collect::<Vec<_>>(),
                 "tell_apart": f.tell_apart.as_ref().map(|t| json!({
                     "alternative": t.alternative,
                     "dof": t.dof,

@@ -16,6 +16,10 @@ fn finding(alternatives: &[&str], tell_apart: Option<TellApart>) -> Finding {
         validation_error_after: 0.9,
         label: "added-mass at node 6".into(),
         indistinguishable_from: alternatives.iter().map(|s| s.to_string()).collect(),
+        alternatives: alternatives
+            .iter()
+            .map(|_| (Physics::AddedMass, vec![7]))
+            .collect(),
         tell_apart,
     }
 }
