@@ -137,6 +137,8 @@ fn fixed_seed_subset() {
         kinds.len() >= 4,
         "the subset covers several kinds: {kinds:?}"
     );
+    // Layouts whose driving point was not measured (cases 4, 6, 9).
+    assert!(cases.iter().any(|c| !c.driving_point_measured()));
     let (mut within, mut ran, mut errors, mut converged) = (0, 0, 0, 0);
     for (i, case) in cases.iter().enumerate() {
         let model = deck::parse(&case.model_deck).unwrap();
@@ -169,7 +171,7 @@ fn fixed_seed_subset() {
                 println!(
                     "case {i}: {} {} {} dofs {} params {} converged {} max error {:.4} ({:.2} s)",
                     case.structure.name(),
-                    case.layout.name(),
+                    case.layout_label(),
                     case.support.name(),
                     case.dofs,
                     case.params.len(),
@@ -192,20 +194,21 @@ fn fixed_seed_subset() {
         "random subset: {} cases generated in {gen_s:.2} s; update ran on {ran}, refused {errors}; every parameter within 0.02 on {within}",
         cases.len()
     );
-    // Every case runs and converges (asserted above); at most one of the 12
-    // misses "every identified parameter within 0.02" (the benchmark's target
-    // is 95 %; this subset met it on all 12 when it was fixed).
+    // Every case runs: none refused.
     assert_eq!(errors, 0);
     assert_eq!(ran, cases.len());
-    // Measured when fixed: 11 of 12 converged (case 8 stops at the estimate's
-    // iteration limit), 9 of 12 within 0.02 (cases 8, 9: 0.040, 11: 0.081).
+    // Measured when fixed: 11 of 12 converged (case 8 stopped at the
+    // estimate's iteration limit), 9 of 12 within 0.02; since a fifth of
+    // the layouts lack the driving point (2026-11-28): 12 of 12 converged,
+    // 10 within 0.02 (cases 8: 0.083, 11: 0.081; the three without a
+    // driving point within 0.015).
     assert!(
-        converged + 1 >= cases.len(),
+        converged == cases.len(),
         "converged on {converged} of {}",
         cases.len()
     );
     assert!(
-        within + 3 >= cases.len(),
+        within + 2 >= cases.len(),
         "within 0.02 on {within} of {}",
         cases.len()
     );
