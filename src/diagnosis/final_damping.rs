@@ -131,7 +131,6 @@ pub(super) fn damping_finding(
         validation_error_before: before,
         validation_error_after: v_fitted,
         label: format!("{} damping", damp.form.name()),
-        indistinguishable_from: vec![],
         alternatives: vec![],
         tell_apart: None,
     })

@@ -22,7 +22,7 @@ use super::refit;
 use super::round::{search_round, Round};
 use super::search::Search;
 use super::select::{self, Engine, FitRequest, HypFit};
-use super::{sig, DiagnoseError, Finding, Rejected};
+use super::{sig, Alternative, DiagnoseError, Finding, Rejected};
 use crate::model::{self, ParameterValues};
 
 /// The state, then the outcome, of one greedy search.
@@ -319,7 +319,6 @@ impl Greedy {
                 validation_error_before: v_before,
                 validation_error_after: p.v,
                 label: format!("{} (fitted jointly with the next)", h.label),
-                indistinguishable_from: vec![],
                 alternatives: vec![],
                 tell_apart: None,
             });
@@ -358,17 +357,19 @@ impl Greedy {
                 data,
             )
         });
-        let alternatives: Vec<String> = close
+        let alternatives: Vec<Alternative> = close
             .iter()
-            .map(|(o, fo, vo)| {
-                format!(
+            .map(|(o, fo, vo)| Alternative {
+                physics: o.physics,
+                nodes: o.nodes.clone(),
+                description: format!(
                     "{} ({}validation error {vo:.4})",
                     o.label,
                     fo.value
                         .zip(o.param.as_ref())
                         .map(|(x, p)| format!("{} = {} {}, ", p.name, sig(x), p.unit))
                         .unwrap_or_default()
-                )
+                ),
             })
             .collect();
         for (o, fo, vo) in scored.iter().skip(1) {
@@ -395,11 +396,7 @@ impl Greedy {
             validation_error_before: self.v,
             validation_error_after: v,
             label: h.label.clone(),
-            indistinguishable_from: alternatives,
-            alternatives: close
-                .iter()
-                .map(|(o, _, _)| (o.physics, o.nodes.clone()))
-                .collect(),
+            alternatives,
             tell_apart,
         });
         self.accepted.push((h, f.value));

@@ -115,12 +115,28 @@ pub struct Finding {
     pub validation_error_after: f64,
     pub label: String,
     /// Other hypotheses the data cannot tell apart from this one.
-    pub indistinguishable_from: Vec<String>,
-    /// The same hypotheses as (physics, nodes), for tools that read
-    /// `diagnosis.json`.
-    pub alternatives: Vec<(Physics, Vec<u32>)>,
+    pub alternatives: Vec<Alternative>,
     /// The measurement that would tell it from the closest of them.
     pub tell_apart: Option<discriminate::TellApart>,
+}
+
+impl Finding {
+    /// The alternatives' descriptions, for reports.
+    pub fn indistinguishable_from(&self) -> Vec<&str> {
+        self.alternatives
+            .iter()
+            .map(|a| a.description.as_str())
+            .collect()
+    }
+}
+
+/// A hypothesis the data cannot tell apart from a finding.
+#[derive(Clone, Debug)]
+pub struct Alternative {
+    pub physics: Physics,
+    pub nodes: Vec<u32>,
+    /// Its label with its fitted value and validation error.
+    pub description: String,
 }
 
 /// A hypothesis that was fitted and validated but not accepted.

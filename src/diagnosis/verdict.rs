@@ -65,7 +65,7 @@ impl Verdict {
         let pairs: Vec<String> = findings
             .iter()
             .filter_map(|f| {
-                let other = f.indistinguishable_from.first()?;
+                let other = &f.alternatives.first()?.description;
                 Some(f.tell_apart.as_ref().map_or_else(
                     || {
                         format!(

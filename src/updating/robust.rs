@@ -251,19 +251,15 @@ fn deck_frequencies(deck: &Deck, test: &MeasuredFrfs, offset: f64) -> Option<Vec
 /// returned iterate and its best one by SFDAC mean (a converged iterate can
 /// fit worse than an earlier one).
 fn starts(result: &UpdateResult, np: usize) -> Vec<Vec<f64>> {
-    let mut s = vec![vec![0.0; np]];
-    let returned = result.parameters().to_vec();
-    if !s.contains(&returned) {
-        s.push(returned);
-    }
     let best = result
         .iterations
         .iter()
         .max_by(|a, b| a.sfdac.mean.total_cmp(&b.sfdac.mean))
         .map(|r| r.parameters.clone());
-    if let Some(b) = best {
-        if !s.contains(&b) {
-            s.push(b);
+    let mut s = vec![vec![0.0; np]];
+    for c in std::iter::once(result.parameters().to_vec()).chain(best) {
+        if !s.contains(&c) {
+            s.push(c);
         }
     }
     s

@@ -211,7 +211,6 @@ pub fn finding(e: &DataError, data: &TestData, before: f64, after: f64) -> Optio
         validation_error_before: before,
         validation_error_after: after,
         label,
-        indistinguishable_from: Vec::new(),
         alternatives: Vec::new(),
         tell_apart: None,
     })

@@ -83,10 +83,10 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
                     "validation_error_after": num(f.validation_error_after),
                 },
                 "description": f.label,
-                "indistinguishable_from": f.indistinguishable_from,
-                "alternatives": f.alternatives.iter().map(|(p, nodes)| json!({
-                    "physics": p.name(),
-                    "nodes": nodes,
+                "indistinguishable_from": f.indistinguishable_from(),
+                "alternatives": f.alternatives.iter().map(|a| json!({
+                    "physics": a.physics.name(),
+                    "nodes": a.nodes,
                 })).collect::<Vec<_>>(),
                 "tell_apart": f.tell_apart.as_ref().map(|t| json!({
                     "alternative": t.alternative,
@@ -183,10 +183,10 @@ pub fn report_md(d: &Diagnosis, deck_name: &str, test_name: &str) -> String {
             sig(f.validation_error_before),
             sig(f.validation_error_after)
         ));
-        if !f.indistinguishable_from.is_empty() {
+        if !f.alternatives.is_empty() {
             s.push_str(&format!(
                 "  The data cannot tell this apart from: {}.\n",
-                f.indistinguishable_from.join("; ")
+                f.indistinguishable_from().join("; ")
             ));
         }
         if let Some(t) = &f.tell_apart {

@@ -242,16 +242,12 @@ fn physics(s: &mut String, d: &Diagnosis) {
         );
     }
     s.push_str("</table>\n");
-    for f in d
-        .findings
-        .iter()
-        .filter(|f| !f.indistinguishable_from.is_empty())
-    {
+    for f in d.findings.iter().filter(|f| !f.alternatives.is_empty()) {
         let _ = writeln!(
             s,
             "<p>The data cannot tell <b>{}</b> apart from: {}.</p>",
             esc(&f.label),
-            esc(&f.indistinguishable_from.join("; "))
+            esc(&f.indistinguishable_from().join("; "))
         );
         if let Some(t) = &f.tell_apart {
             let _ = writeln!(s, "<p>{}</p>", esc(&t.sentence(&f.label)));

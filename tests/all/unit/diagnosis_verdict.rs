@@ -3,7 +3,7 @@
 use frfup::diagnosis::discriminate::TellApart;
 use frfup::diagnosis::hypotheses::Physics;
 use frfup::diagnosis::verdict::*;
-use frfup::diagnosis::Finding;
+use frfup::diagnosis::{Alternative, Finding};
 
 fn finding(alternatives: &[&str], tell_apart: Option<TellApart>) -> Finding {
     Finding {
@@ -15,10 +15,13 @@ fn finding(alternatives: &[&str], tell_apart: Option<TellApart>) -> Finding {
         validation_error_before: 40.0,
         validation_error_after: 0.9,
         label: "added-mass at node 6".into(),
-        indistinguishable_from: alternatives.iter().map(|s| s.to_string()).collect(),
         alternatives: alternatives
             .iter()
-            .map(|_| (Physics::AddedMass, vec![7]))
+            .map(|s| Alternative {
+                physics: Physics::AddedMass,
+                nodes: vec![7],
+                description: s.to_string(),
+            })
             .collect(),
         tell_apart,
     }
