@@ -34,6 +34,7 @@ use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
 use faer::{c64, Accum, Mat, Par, Side};
+use rayon::prelude::*;
 
 use super::prepare::Prepared;
 use super::IdentifyError;
@@ -61,7 +62,15 @@ struct Factored {
     /// w_o·Y_o stacked row by row: row r·outputs + o is w_o times Y_o's row
     /// r, so that order p's rows are the leading (p+1)·outputs.
     stack: Mat<f64>,
+    /// Σ_o w_o² S_oᵀR⁻¹S_o of every order p ≥ 1 (index p − 1), the stack's
+    /// leading (p+1)·outputs rows' Gram matrix: one running sum over the
+    /// rows instead of a product per order (Σ_p p³ → P³); empty when they
+    /// would take more than [`GRAM_MEMORY`] numbers.
+    gram: Vec<Mat<f64>>,
 }
+
+/// Numbers kept for the per-order Gram matrices at most (128 MB).
+const GRAM_MEMORY: usize = 16 << 20;
 
 impl Sums {
     /// The sums for orders up to `max_order` (O(FRFs × lines × order)).
@@ -76,34 +85,87 @@ impl Sums {
         let w_max = data.omega[n - 1];
         let dt = std::f64::consts::PI / w_max;
         let p = max_order;
-        let width = 2 * p + 1;
-        let mut r = vec![0.0; p + 1];
-        let mut g = vec![vec![0.0; width]; data.h.len()];
-        let mut t = vec![vec![0.0; width]; m * m];
+        // Lines in fixed chunks, summed on all cores and added in chunk
+        // order: the same sums whatever the number of threads.
+        let parts: Vec<Partial> = (0..n.div_ceil(CHUNK))
+            .into_par_iter()
+            .map(|c| Partial::over(data, dt, p, c * CHUNK..((c + 1) * CHUNK).min(n)))
+            .collect();
+        let mut total = Partial::zeros(data.h.len(), m, p);
+        for part in &parts {
+            total.add(part);
+        }
+        let Partial { r, g, t } = total;
+        let factored = factor(data, &r, &g, m, p)?;
+        Ok(Sums {
+            dt,
+            max_order,
+            m,
+            t,
+            factored,
+        })
+    }
+}
+
+/// Lines per chunk of the sums.
+const CHUNK: usize = 4096;
+
+/// The sums of [`Sums::new`] over some of the lines: Σ Re z^d per d,
+/// and per FRF and per input pair Re Σ z^{±d}(·) at index P ± d.
+struct Partial {
+    r: Vec<f64>,
+    g: Vec<Vec<f64>>,
+    t: Vec<Vec<f64>>,
+}
+
+impl Partial {
+    fn zeros(frfs: usize, m: usize, p: usize) -> Partial {
+        Partial {
+            r: vec![0.0; p + 1],
+            g: vec![vec![0.0; 2 * p + 1]; frfs],
+            t: vec![vec![0.0; 2 * p + 1]; m * m],
+        }
+    }
+
+    fn add(&mut self, other: &Partial) {
+        let pairs = [(&mut self.g, &other.g), (&mut self.t, &other.t)];
+        for (mine, theirs) in pairs {
+            for (a, b) in mine.iter_mut().zip(theirs) {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+            }
+        }
+        self.r.iter_mut().zip(&other.r).for_each(|(x, y)| *x += y);
+    }
+
+    fn over(data: &Prepared, dt: f64, p: usize, lines: std::ops::Range<usize>) -> Partial {
+        let m = data.n_inputs();
+        let mut out = Partial::zeros(data.h.len(), m, p);
+        let h: Vec<&[c64]> = data.h.iter().map(|h| &h[lines.clone()]).collect();
         // Products conj(H_oi) H_oj summed over outputs with weights w_o².
-        let mut q = vec![vec![c64::new(0.0, 0.0); n]; m * m];
+        let mut q = vec![vec![c64::new(0.0, 0.0); lines.len()]; m * m];
         for (o, w) in data.weights.iter().enumerate() {
             let w2 = w * w;
             for i in 0..m {
                 for j in 0..m {
-                    let (hi, hj) = (&data.h[o * m + i], &data.h[o * m + j]);
-                    for k in 0..n {
-                        q[i * m + j][k] += hi[k].conj() * hj[k] * w2;
+                    let (hi, hj) = (h[o * m + i], h[o * m + j]);
+                    for (qk, (a, b)) in q[i * m + j].iter_mut().zip(hi.iter().zip(hj)) {
+                        *qk += a.conj() * b * w2;
                     }
                 }
             }
         }
-        let z1: Vec<c64> = data.omega.iter().map(|w| c64::cis(w * dt)).collect();
+        crate::solvers::vector_state::clear(); // sin, cos per line
+        let z1: Vec<c64> = data.omega[lines].iter().map(|w| c64::cis(w * dt)).collect();
         // z_k^d by repeated products (rounding grows as d·ε, 1e-14 at order
         // 100): a sine and cosine per line and order cost more than the sums.
-        let mut zd = vec![c64::new(1.0, 0.0); n];
+        let mut zd = vec![c64::new(1.0, 0.0); z1.len()];
         for d in 0..=p {
             if d > 0 {
                 for (z, step) in zd.iter_mut().zip(&z1) {
                     *z *= step;
                 }
             }
-            r[d] = zd.iter().map(|z| z.re).sum();
+            out.r[d] = zd.iter().map(|z| z.re).sum();
             // Re Σ z^{±d} x = Σ (Re z Re x ∓ Im z Im x).
             let sums = |x: &[c64]| -> (f64, f64) {
                 let (mut a, mut b) = (0.0, 0.0);
@@ -113,25 +175,18 @@ impl Sums {
                 }
                 (a - b, a + b)
             };
-            for (gj, h) in g.iter_mut().zip(&data.h) {
-                let (plus, minus) = sums(h);
+            for (gj, hj) in out.g.iter_mut().zip(&h) {
+                let (plus, minus) = sums(hj);
                 gj[p + d] = plus;
                 gj[p - d] = minus;
             }
-            for (tj, qj) in t.iter_mut().zip(&q) {
+            for (tj, qj) in out.t.iter_mut().zip(&q) {
                 let (plus, minus) = sums(qj);
                 tj[p + d] = plus;
                 tj[p - d] = minus;
             }
         }
-        let factored = factor(data, &r, &g, m, p)?;
-        Ok(Sums {
-            dt,
-            max_order,
-            m,
-            t,
-            factored,
-        })
+        out
     }
 }
 
@@ -165,7 +220,41 @@ fn factor(
         }
         y.push(yo);
     }
-    Ok(Factored { chol, y, stack })
+    let gram = running_gram(&stack, outputs, m, p);
+    Ok(Factored {
+        chol,
+        y,
+        stack,
+        gram,
+    })
+}
+
+/// The leading ((q+1)m)² block of the Gram matrix of `stack`'s first
+/// (q+1)·`outputs` rows, for q = 1..=p (see [`Factored::gram`]).
+fn running_gram(stack: &Mat<f64>, outputs: usize, m: usize, p: usize) -> Vec<Mat<f64>> {
+    let size: usize = (1..=p).map(|q| ((q + 1) * m).pow(2)).sum();
+    if size > GRAM_MEMORY {
+        return Vec::new();
+    }
+    let nc = stack.ncols();
+    let mut acc = Mat::<f64>::zeros(nc, nc);
+    let mut out = Vec::with_capacity(p);
+    for row in 0..=p {
+        let rows = stack.submatrix(row * outputs, 0, outputs, nc);
+        matmul(
+            acc.as_mut(),
+            Accum::Add,
+            rows.transpose(),
+            rows,
+            1.0,
+            Par::Seq,
+        );
+        if row >= 1 {
+            let k = (row + 1) * m;
+            out.push(acc.submatrix(0, 0, k, k).to_owned());
+        }
+    }
+    out
 }
 
 /// A pole of one model order.
@@ -192,11 +281,16 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
         sums.t[i * m + j][big + s - r]
     });
     // Σ_o w_o² S_oᵀR⁻¹S_o = WᵀW over the stack's leading rows and columns.
-    let w = sums
-        .factored
-        .stack
-        .submatrix(0, 0, n1 * data.n_outputs(), nc);
-    matmul(mm.as_mut(), Accum::Add, w.transpose(), w, -1.0, Par::Seq);
+    match sums.factored.gram.get(p - 1) {
+        Some(g) => mm -= g,
+        None => {
+            let w = sums
+                .factored
+                .stack
+                .submatrix(0, 0, n1 * data.n_outputs(), nc);
+            matmul(mm.as_mut(), Accum::Add, w.transpose(), w, -1.0, Par::Seq);
+        }
+    }
     let pm = p * m;
     let maa = mm.submatrix(0, 0, pm, pm).to_owned();
     let mab = mm.submatrix(0, pm, pm, m).to_owned();

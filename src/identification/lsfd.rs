@@ -11,7 +11,8 @@
 //! are the rows of one design matrix shared by all FRFs (the poles are
 //! common), so one QR factorisation solves every FRF.
 
-use faer::{c64, Mat};
+use faer::linalg::solvers::Solve;
+use faer::{c64, Mat, Side};
 
 use crate::solvers::dense::{product, thin_svd};
 
@@ -144,6 +145,68 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
     }
 }
 
+/// Largest condition number of the column-scaled design for which
+/// [`solve_tall`] uses the normal equations: one correction step leaves an
+/// error of order κ²ε·κ²ε (Björck, BIT 27, 1987: corrected semi-normal
+/// equations), below the SVD's κε here.
+const NORMAL_COND: f64 = 1e5;
+
+/// [`solve`] for a tall design (the whole band: up to 10⁵ rows, tens of
+/// columns) by the normal equations of the column-scaled A, one step of
+/// correction with the residual, when A is well conditioned; by [`solve`]
+/// otherwise. Four M × N products instead of a Householder QR (a 100,000 ×
+/// 16 design: 74 ms by the SVD).
+pub(super) fn solve_tall(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
+    let n = a.ncols();
+    let scale: Vec<f64> = a.col_iter().map(|c| c.norm_l2()).collect();
+    if n == 0 || a.nrows() < 4 * n || scale.iter().any(|v| !(*v > 0.0 && v.is_finite())) {
+        return solve(a, b);
+    }
+    let mut gram = product(a.transpose(), a.as_ref());
+    for i in 0..n {
+        for j in 0..n {
+            gram[(i, j)] /= scale[i] * scale[j];
+        }
+    }
+    let Ok(eig) = gram.self_adjoint_eigen(Side::Lower) else {
+        return solve(a, b);
+    };
+    let ev: Vec<f64> = eig.S().column_vector().iter().copied().collect();
+    let (lo, hi) = ev
+        .iter()
+        .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
+    if !(lo > hi / (NORMAL_COND * NORMAL_COND)) {
+        return solve(a, b);
+    }
+    let Ok(llt) = gram.llt(Side::Lower) else {
+        return solve(a, b);
+    };
+    // x = D (DAᵀAD)⁻¹ D Aᵀ b, D = diag(1/scale).
+    let step = |rhs: &Mat<f64>| {
+        let mut y = product(a.transpose(), rhs.as_ref());
+        for (i, s) in scale.iter().enumerate() {
+            for j in 0..y.ncols() {
+                y[(i, j)] /= s;
+            }
+        }
+        let mut x = llt.solve(&y);
+        for (i, s) in scale.iter().enumerate() {
+            for j in 0..x.ncols() {
+                x[(i, j)] /= s;
+            }
+        }
+        x
+    };
+    let mut x = step(b);
+    let r = b - product(a.as_ref(), x.as_ref());
+    x += step(&r);
+    if x.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
+        Ok(x)
+    } else {
+        solve(a, b)
+    }
+}
+
 /// The fitted FRF at ω (the test's kind).
 pub fn evaluate(poles: &[c64], residues: &[c64], res: &Residual, omega: f64, n: i32) -> c64 {
     let s = c64::new(0.0, omega);
@@ -186,7 +249,7 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     let all: Vec<usize> = (0..data.n_lines()).collect();
     let a = design(poles, &data.omega, &all, data.kind_order);
     let b = rhs(data, &all);
-    let x = solve(&a, &b)?;
+    let x = solve_tall(&a, &b)?;
     let per_line = line_residuals(data, &a, &b, &x);
     let cost: f64 = per_line.iter().sum();
     let m = data.n_inputs();
@@ -199,26 +262,30 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     let significance = (0..poles.len())
         .map(|r| {
             // The contribution peaks within its window: only those lines.
-            let half = WINDOW * (-poles[r].re).max(line);
+            let lam = poles[r];
+            let half = WINDOW * (-lam.re).max(line);
             let near: Vec<usize> = (0..n)
-                .filter(|&k| (data.omega[k] - poles[r].im).abs() <= half)
+                .filter(|&k| (data.omega[k] - lam.im).abs() <= half)
                 .collect();
-            let mut peak: f64 = 0.0;
-            for j in 0..data.h.len() {
-                let res = c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]);
-                let w = data.weights[j / m];
-                for &k in &near {
-                    let one = [poles[r]];
-                    let v = evaluate(
-                        &one,
-                        &[res],
-                        &Residual::default(),
-                        data.omega[k],
-                        data.kind_order,
-                    );
-                    peak = peak.max(w * v.norm());
+            let residues: Vec<(c64, f64)> = (0..data.h.len())
+                .map(|j| {
+                    (
+                        c64::new(x[(2 * r, j)], x[(2 * r + 1, j)]),
+                        data.weights[j / m],
+                    )
+                })
+                .collect();
+            // max over FRFs and lines of w_j |sⁿ (A_j/(s−λ) + Ā_j/(s−λ̄))|.
+            let mut peak2: f64 = 0.0;
+            for &k in &near {
+                let s = c64::new(0.0, data.omega[k]);
+                let (p, q) = ((s - lam).inv(), (s - lam.conj()).inv());
+                let sn = s_pow(s, data.kind_order);
+                for &(a, w) in &residues {
+                    peak2 = peak2.max(w * w * (sn * (a * p + a.conj() * q)).norm_sqr());
                 }
             }
+            let peak = peak2.sqrt();
             let ss: f64 = near.iter().map(|&k| per_line[k]).sum();
             let rms = (ss / (near.len().max(1) as f64 * nj)).sqrt();
             peak / rms.max(f64::MIN_POSITIVE)

@@ -170,15 +170,25 @@ pub struct Identification {
 impl Identification {
     /// The fitted FRF of channel `c` (in the test's kind) at ω (rad/s).
     pub fn synthesise(&self, c: usize, omega: f64) -> c64 {
+        self.synthesise_lines(c, &[omega])[0]
+    }
+
+    /// [`Self::synthesise`] at every ω of `omega` (rad/s).
+    pub fn synthesise_lines(&self, c: usize, omega: &[f64]) -> Vec<c64> {
         let poles: Vec<c64> = self.modes.iter().map(|m| m.pole).collect();
         let residues: Vec<c64> = self.modes.iter().map(|m| m.residues[c]).collect();
-        lsfd::evaluate(
-            &poles,
-            &residues,
-            &self.residuals[c],
-            omega,
-            self.data.kind_order,
-        )
+        omega
+            .iter()
+            .map(|&w| {
+                lsfd::evaluate(
+                    &poles,
+                    &residues,
+                    &self.residuals[c],
+                    w,
+                    self.data.kind_order,
+                )
+            })
+            .collect()
     }
 }
 

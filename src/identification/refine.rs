@@ -25,6 +25,7 @@
 
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat, Side};
+use rayon::prelude::*;
 
 use super::lsfd;
 use super::prepare::Prepared;
@@ -201,13 +202,20 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
     let mut poles = poles0.to_vec();
     for _ in 0..SWEEPS {
         let global = band_residues(data, &poles)?;
+        // The windows of a sweep depend only on the sweep's start: refined
+        // on all cores, applied in order.
+        let refined: Vec<Vec<c64>> = windows
+            .par_iter()
+            .map(|(group, lines)| {
+                let b = lsfd::rhs(data, lines) - others_part(data, &poles, &global, group, lines);
+                let local: Vec<c64> = group.iter().map(|&r| poles[r]).collect();
+                let local_sigma: Vec<f64> = group.iter().map(|&r| sigma[r]).collect();
+                let at: Vec<usize> = (0..group.len()).collect();
+                refine_group(data, &local, &at, &local_sigma, lines, &b)
+            })
+            .collect::<Result<_, _>>()?;
         let mut next = poles.clone();
-        for (group, lines) in &windows {
-            let b = lsfd::rhs(data, lines) - others_part(data, &poles, &global, group, lines);
-            let local: Vec<c64> = group.iter().map(|&r| poles[r]).collect();
-            let local_sigma: Vec<f64> = group.iter().map(|&r| sigma[r]).collect();
-            let at: Vec<usize> = (0..group.len()).collect();
-            let refined = refine_group(data, &local, &at, &local_sigma, lines, &b)?;
+        for ((group, _), refined) in windows.iter().zip(&refined) {
             for (k, &r) in group.iter().enumerate() {
                 if (refined[k] - poles0[r]).norm() <= 1.5 * sigma[r] {
                     next[r] = refined[k];
@@ -231,5 +239,5 @@ fn band_residues(data: &Prepared, poles: &[c64]) -> Result<Mat<f64>, IdentifyErr
     let n = data.n_lines();
     let all: Vec<usize> = (0..n).step_by(n.div_ceil(GLOBAL_LINES).max(1)).collect();
     let a = lsfd::design(poles, &data.omega, &all, data.kind_order);
-    lsfd::solve(&a, &lsfd::rhs(data, &all))
+    lsfd::solve_tall(&a, &lsfd::rhs(data, &all))
 }

@@ -2,6 +2,7 @@
 //! by how it agrees with the nearest pole of the order below.
 
 use faer::c64;
+use rayon::prelude::*;
 
 use super::lscf::{self, Sums};
 use super::prepare::{self, Prepared};
@@ -120,10 +121,17 @@ pub fn diagram(data: &Prepared, sums: &Sums, tol: &Tolerances) -> Result<Diagram
         data.frequencies_hz[0],
         data.frequencies_hz[data.n_lines() - 1],
     );
+    // Every order's poles come from the same sums independently: computed
+    // on all cores (each order's result does not depend on the thread),
+    // then marked against the order below one after the other.
+    let per_order: Vec<Vec<lscf::OrderPole>> = (1..=sums.max_order)
+        .into_par_iter()
+        .map(|order| lscf::poles(data, sums, order))
+        .collect::<Result<_, _>>()?;
     let mut all: Vec<DiagramPole> = Vec::new();
     let mut below: Vec<DiagramPole> = Vec::new();
-    for order in 1..=sums.max_order {
-        let mut here: Vec<DiagramPole> = lscf::poles(data, sums, order)?
+    for (order, poles) in (1..=sums.max_order).zip(per_order) {
+        let mut here: Vec<DiagramPole> = poles
             .into_iter()
             .map(|op| DiagramPole {
                 order,

@@ -9,3 +9,4 @@ pub mod eigen;
 pub mod frf;
 pub mod nested_dissection;
 pub mod sparse_ops;
+pub mod vector_state;

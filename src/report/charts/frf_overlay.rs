@@ -10,6 +10,7 @@
 use num_complex::Complex64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
+use rayon::prelude::*;
 
 use super::{
     abbreviate, bold, comparison_color, draw_legend, draw_mesh, draw_no_data, draw_title,
@@ -127,6 +128,7 @@ fn x_range(o: &FrfOverlay) -> (f64, f64) {
 /// above 0 Hz: from the 0.5 % quantile (single deep notches and the 0 Hz line
 /// do not stretch the axis) to above the largest value, at most `max_decades`.
 fn decades(o: &FrfOverlay, ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
+    crate::solvers::vector_state::clear();
     let mut logs: Vec<f64> = ch
         .values
         .iter()
@@ -192,6 +194,8 @@ pub fn decimate(points: Vec<(f64, f64)>, x: (f64, f64), buckets: usize) -> Vec<(
 }
 
 fn magnitude_points(o: &FrfOverlay, values: &[Complex64], floor: f64) -> Vec<(f64, f64)> {
+    // A magnitude (hypot) and log10 per line: libm at full speed.
+    crate::solvers::vector_state::clear();
     o.frequencies_hz
         .iter()
         .zip(values)
@@ -245,7 +249,16 @@ fn draw_series_lines(
     x: (f64, f64),
     buckets: usize,
 ) -> Result<(), ChartError> {
-    for run in finite_runs(decimate(pts, x, buckets)) {
+    draw_decimated(chart, decimate(pts, x, buckets), style)
+}
+
+/// Draws points already reduced to the panel's pixels.
+fn draw_decimated(
+    chart: &mut Chart2d,
+    pts: Vec<(f64, f64)>,
+    style: ShapeStyle,
+) -> Result<(), ChartError> {
+    for run in finite_runs(pts) {
         if run.len() == 1 {
             chart.draw_series(std::iter::once(Circle::new(run[0], 1, style.filled())))?;
         } else {
@@ -441,6 +454,9 @@ fn sheet_columns(n: usize) -> usize {
     }
 }
 
+/// A panel's decades (log10 bounds) and its series reduced to pixels.
+type Panel = ((i32, i32), Vec<Vec<(f64, f64)>>);
+
 /// Render every channel's magnitude as a grid of small panels with one legend.
 pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
     let n = o.channels.len();
@@ -460,6 +476,21 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
     let x = x_range(o);
     let cell_w = width as usize / cols;
     let buckets = cell_w / 2;
+    // Each panel's axis range and pixel-reduced series, on all cores (a
+    // long record has 10⁵–10⁶ values per sheet); drawn in order below.
+    let panels: Vec<Panel> = o
+        .channels
+        .par_iter()
+        .map(|ch| {
+            let (d0, d1) = decades(o, ch, 7);
+            let series = ch
+                .values
+                .iter()
+                .map(|vals| decimate(magnitude_points(o, vals, d0 as f64), x, buckets))
+                .collect();
+            ((d0, d1), series)
+        })
+        .collect();
     super::svg((width, height), |root| {
         draw_title(root, &o.title, o.subtitle.as_deref())?;
         let (_, rest) = root.split_vertically(th);
@@ -470,7 +501,8 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
         let xfmt_n = if cols >= 3 { 5 } else { 8 };
         let xfmt = sheet_tick_label(x, xfmt_n);
         let ydesc = format!("|H| ({})", o.units);
-        for (ch, cell) in o.channels.iter().zip(&cells) {
+        for ((ch, cell), ((d0, d1), series)) in o.channels.iter().zip(&cells).zip(&panels) {
+            let (d0, d1) = (*d0, *d1);
             let (cw, _) = cell.dim_in_pixel();
             let label = abbreviate(&ch.label, 12.0, cw as f64 - 20.0);
             cell.draw_text(
@@ -478,7 +510,6 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
                 &bold(12.0).pos(Pos::new(HPos::Center, VPos::Top)),
                 (cw as i32 / 2 + 20, 4),
             )?;
-            let (d0, d1) = decades(o, ch, 7);
             let y = (d0 as f64, d1 as f64);
             let mut chart = ChartBuilder::on(cell)
                 .margin_top(22)
@@ -503,10 +534,10 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
                 .axis_style(GREY.stroke_width(1))
                 .draw()?;
             draw_marks(root, &mut chart, o, y, 0, 10.0)?;
-            for (s, vals) in ch.values.iter().enumerate() {
+            for (s, pts) in series.iter().enumerate() {
                 let st = series_style(s);
                 let st = if s == 0 { st.color.stroke_width(1) } else { st };
-                draw_series_lines(&mut chart, magnitude_points(o, vals, y.0), st, x, buckets)?;
+                draw_decimated(&mut chart, pts.clone(), st)?;
             }
         }
         Ok(())

@@ -7,6 +7,7 @@ pub mod stabilisation;
 pub mod tables;
 pub mod uff;
 
+use rayon::prelude::*;
 use std::path::Path;
 
 use super::charts::{self, FrfChannel, FrfOverlay, MacChart, MacPanel, ResonanceMark};
@@ -42,6 +43,7 @@ fn synthesis_overlay(r: &IdentifyReport) -> FrfOverlay {
     let id = r.id;
     let m = id.data.n_inputs();
     let channels = (0..id.data.h.len())
+        .into_par_iter()
         .map(|j| {
             let (o, i) = (&id.data.outputs[j / m], &id.data.inputs[j % m]);
             FrfChannel {
@@ -50,10 +52,7 @@ fn synthesis_overlay(r: &IdentifyReport) -> FrfOverlay {
                     dof_label(o.node, o.direction),
                     dof_label(i.node, i.direction)
                 ),
-                values: vec![
-                    id.data.h[j].clone(),
-                    id.data.omega.iter().map(|&w| id.synthesise(j, w)).collect(),
-                ],
+                values: vec![id.data.h[j].clone(), id.synthesise_lines(j, &id.data.omega)],
             }
         })
         .collect();
@@ -114,10 +113,12 @@ pub fn render_charts(r: &IdentifyReport) -> Result<Charts, ReportError> {
         let file = file.to_string();
         move |source| ReportError::Chart { file, source }
     };
-    let stab = stabilisation::render(r.id, &format!("Stabilisation diagram: {}", r.test_name))
-        .map_err(chart_err("stabilisation.svg"))?;
-    let synthesis = charts::frf_overlay::render_contact_sheet(&synthesis_overlay(r))
-        .map_err(chart_err("synthesis.svg"))?;
+    let (stab, synthesis) = rayon::join(
+        || stabilisation::render(r.id, &format!("Stabilisation diagram: {}", r.test_name)),
+        || charts::frf_overlay::render_contact_sheet(&synthesis_overlay(r)),
+    );
+    let stab = stab.map_err(chart_err("stabilisation.svg"))?;
+    let synthesis = synthesis.map_err(chart_err("synthesis.svg"))?;
     let mac = match r.pairing {
         Some((deck, p)) if !r.id.modes.is_empty() => {
             Some(charts::mac::render(&mac_chart(r.id, deck, p)).map_err(chart_err("mac.svg"))?)
@@ -157,6 +158,7 @@ pub fn write_outputs(r: &IdentifyReport, dir: &Path) -> Result<(), ReportError> 
     if let Some(svg) = &charts.shapes {
         write(viewer::STILL_FILE, svg.as_bytes())?;
     }
-    write("report.html", page::html(r, &charts).as_bytes())?;
+    let html = page::html(r, &charts);
+    write("report.html", html.as_bytes())?;
     Ok(())
 }
