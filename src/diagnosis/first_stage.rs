@@ -40,10 +40,20 @@ pub(super) fn update_own_parameters(search: &Search) -> FirstStage {
     stage
 }
 
+/// The update's options without its spread starts: a fit far above the
+/// noise level is what the diagnosis then explains by physics, and eight
+/// more full-band estimates per update would double a diagnosis's first
+/// stage.
+fn update_options(search: &Search) -> updating::UpdateOptions {
+    let mut opts = search.opts.update.clone();
+    opts.spread_starts = 0;
+    opts
+}
+
 /// The update of the deck's parameters; on failure the deck's values stay
 /// and the note says why. True when its result is a full-band estimate.
 fn update(search: &Search, stage: &mut FirstStage) -> bool {
-    match updating::update(search.deck, search.test, &search.opts.update) {
+    match updating::update(search.deck, search.test, &update_options(search)) {
         Ok(res) => {
             let estimated = ends_in_estimate(&res);
             stage.parameters = res.parameter_values();
@@ -76,7 +86,7 @@ pub(super) fn parameters_on(
     ext: &Deck,
     damp: &DampingState,
 ) -> Option<ParameterValues> {
-    let res = updating::update(ext, search.test, &search.opts.update).ok();
+    let res = updating::update(ext, search.test, &update_options(search)).ok();
     if let Some(res) = res.as_ref().filter(|r| ends_in_estimate(r)) {
         return Some(res.parameter_values());
     }

@@ -171,7 +171,11 @@ pub fn report_json(result: &UpdateResult) -> Value {
             "iterations": e.iterations,
             "misfit_over_noise": e.misfit,
             "damping": crate::model::describe_damping(e.damping),
-            "start": if e.start == 0 { "deck" } else { "first stage" },
+            "start": match e.start {
+                0 => "deck",
+                s if s >= crate::updating::fullband::estimate::SPREAD_START => "spread",
+                _ => "first stage",
+            },
             "coarse_frequency_stage": e.coarse_stage,
             "model_solutions": e.model_solutions,
             "unseen_directions": e.missing_directions.iter().map(|(d, sd)| json!({

@@ -57,6 +57,11 @@ pub struct UpdateOptions {
     /// ([`UpdateMethod::Robust`] only).
     #[serde(skip)]
     pub estimate_iterations: usize,
+    /// Starts spread over the plausible range tried when every other start
+    /// of the full-band estimate ends far above the noise level
+    /// ([`UpdateMethod::Robust`] only; 0: none).
+    #[serde(skip)]
+    pub spread_starts: usize,
     /// N_md, modes in the SEREP basis. `None`: min(N_ex, max(2R, R + 4)).
     pub modes: Option<usize>,
     /// R, test resonances used for Eq. 42 (and frequency equations).
@@ -113,6 +118,7 @@ impl Default for UpdateOptions {
             frequencies_first: true,
             offset: 0.05,
             damping: 0.05,
+            spread_starts: 8,
             ..UpdateOptions::paper()
         }
     }
@@ -125,6 +131,7 @@ impl UpdateOptions {
         UpdateOptions {
             method: UpdateMethod::Paper,
             estimate_iterations: 40,
+            spread_starts: 0,
             modes: None,
             resonances: None,
             offset: 0.08,

@@ -16,7 +16,7 @@
 use frfup_parsers::deck::Deck;
 
 use super::fullband::data::TestData;
-use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate};
+use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate, SPREAD_START};
 use super::iterate::update_model;
 use super::{
     IterationRecord, IterationStage, StopReason, UpdateError, UpdateMethod, UpdateOptions,
@@ -44,7 +44,7 @@ pub fn update_robust(
     let data = test_data(deck, &column)?;
     let np = result.parameter_names.len();
     progress(UpdateProgress::EstimateStarted);
-    let est = best_estimate(deck, &data, starts(&result, np), opts.estimate_iterations)?;
+    let est = best_estimate(deck, &data, starts(&result, np), opts)?;
     let values = est.values();
     let p_final: Vec<f64> = result
         .parameter_names
@@ -91,8 +91,9 @@ fn best_estimate(
     deck: &Deck,
     data: &TestData,
     starts: Vec<Vec<f64>>,
-    max_iter: usize,
+    opts: &UpdateOptions,
 ) -> Result<FullBandEstimate, UpdateError> {
+    let max_iter = opts.estimate_iterations;
     let run = |starts: Vec<Vec<f64>>| {
         estimate(&EstimateRequest {
             deck,
@@ -115,8 +116,57 @@ fn best_estimate(
             }
         }
     }
+    // Every start ended in the basin of a minimum that leaves the test
+    // unexplained: starts spread over the plausible range, independent of
+    // the first stage (which can itself have settled on a wrong pairing).
+    if best.misfit > SPREAD_MISFIT {
+        let spread = spread_starts(best.parameters.len(), opts.spread_starts);
+        for (i, s) in spread.into_iter().enumerate() {
+            if let Ok(mut other) = run(vec![s]) {
+                solutions += other.model_solutions;
+                if other.misfit < best.misfit {
+                    other.start = SPREAD_START + i;
+                    best = other;
+                }
+            }
+            if best.misfit <= RESTART_MISFIT {
+                break;
+            }
+        }
+    }
     best.model_solutions = solutions;
     Ok(best)
+}
+
+/// Misfit above which `spread_starts` further starts are tried.
+const SPREAD_MISFIT: f64 = MISFIT_WARNING;
+/// Half-range of the spread starts in p̄ (relative change).
+const SPREAD: f64 = 0.3;
+
+/// `count` points of the Halton sequence in [−SPREAD, SPREAD]^np (bases the
+/// first primes, index from 1): deterministic, evenly spread in every
+/// dimension however many parameters there are.
+fn spread_starts(np: usize, count: usize) -> Vec<Vec<f64>> {
+    const PRIMES: [u64; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+    let radical_inverse = |mut i: u64, base: u64| {
+        let (mut f, mut r) = (1.0, 0.0);
+        while i > 0 {
+            f /= base as f64;
+            r += f * (i % base) as f64;
+            i /= base;
+        }
+        r
+    };
+    (1..=count as u64)
+        .map(|i| {
+            (0..np)
+                .map(|j| {
+                    let base = PRIMES[j % PRIMES.len()];
+                    SPREAD * (2.0 * radical_inverse(i, base) - 1.0)
+                })
+                .collect()
+        })
+        .collect()
 }
 
 /// The paper's iteration with the robust options, falling back when it

@@ -90,6 +90,10 @@ pub struct ParameterEstimate {
     pub at_bound: bool,
 }
 
+/// [`FullBandEstimate::start`] of the first start spread over the
+/// plausible range (see `updating::robust`).
+pub const SPREAD_START: usize = 1000;
+
 /// The outcome of the full-band estimate.
 #[derive(Clone, Debug)]
 pub struct FullBandEstimate {
@@ -102,7 +106,8 @@ pub struct FullBandEstimate {
     /// Levenberg–Marquardt stopped on its criterion (not its iteration limit).
     pub converged: bool,
     pub iterations: usize,
-    /// Index of the start used (into the request's `starts`).
+    /// Index of the start used (into the request's `starts`; the robust
+    /// pipeline numbers its spread starts from [`SPREAD_START`]).
     pub start: usize,
     /// The coarse stage on resonance frequencies ran first.
     pub coarse_stage: bool,
