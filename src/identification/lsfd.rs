@@ -146,9 +146,10 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
 }
 
 /// Largest condition number of the column-scaled design for which
-/// [`solve_tall`] uses the normal equations: one correction step leaves an
-/// error of order κ²ε·κ²ε (Björck, BIT 27, 1987: corrected semi-normal
-/// equations), below the SVD's κε here.
+/// [`solve_tall`] uses the normal equations. Their relative error, of order
+/// κ²ε (2e-6 at κ = 1e5), shrinks by about that factor again with one step
+/// of refinement on the residual, the same Cholesky factor reused (Björck,
+/// Numerical Methods for Least Squares Problems, 1996, §2.9).
 const NORMAL_COND: f64 = 1e5;
 
 /// [`solve`] for a tall design (the whole band: up to 10⁵ rows, tens of
