@@ -204,7 +204,7 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
         let global = band_residues(data, &poles)?;
         // The windows of a sweep depend only on the sweep's start: refined
         // on all cores, applied in order.
-        let refined: Vec<Result<Vec<c64>, IdentifyError>> = windows
+        let refined: Vec<Vec<c64>> = windows
             .par_iter()
             .map(|(group, lines)| {
                 let b = lsfd::rhs(data, lines) - others_part(data, &poles, &global, group, lines);
@@ -213,8 +213,7 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
                 let at: Vec<usize> = (0..group.len()).collect();
                 refine_group(data, &local, &at, &local_sigma, lines, &b)
             })
-            .collect();
-        let refined: Vec<Vec<c64>> = refined.into_iter().collect::<Result<_, _>>()?;
+            .collect::<Result<_, _>>()?;
         let mut next = poles.clone();
         for ((group, _), refined) in windows.iter().zip(&refined) {
             for (k, &r) in group.iter().enumerate() {

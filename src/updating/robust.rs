@@ -7,10 +7,8 @@
 //! 2. The full-band estimate ([`estimate`]): every line and channel, the
 //!    damping fitted along, bounds and priors, from the better of the deck
 //!    (p̄ = 0) and stage 1's best iteration, and from the other too when the
-//!    better ends above the noise level; when every one of them ends far
-//!    above it (4×), from up to `spread_starts` points spread over ±0.3.
-//!    Its parameters are the result, with their uncertainty; the update has
-//!    converged when this stage has.
+//!    better ends above the noise level. Its parameters are the result, with
+//!    their uncertainty; the update has converged when this stage has.
 //! 3. The final parameters are scored like an iteration (SFDAC at the
 //!    updating frequencies, pairs, FDAC) and appended as the last record,
 //!    so that every table and chart shows the model returned.
@@ -121,7 +119,7 @@ fn best_estimate(
     // Every start ended in the basin of a minimum that leaves the test
     // unexplained: starts spread over the plausible range, independent of
     // the first stage (which can itself have settled on a wrong pairing).
-    if !(best.misfit <= SPREAD_MISFIT) {
+    if best.misfit > SPREAD_MISFIT {
         let spread = spread_starts(best.parameters.len(), opts.spread_starts);
         for (i, s) in spread.into_iter().enumerate() {
             if let Ok(mut other) = run(vec![s]) {
@@ -145,23 +143,27 @@ const SPREAD_MISFIT: f64 = MISFIT_WARNING;
 /// Half-range of the spread starts in p̄ (relative change).
 const SPREAD: f64 = 0.3;
 
-/// `count` points of the Kronecker sequence in [−SPREAD, SPREAD]^np:
-/// x_ij = frac(½ + i·α_j), α_j = φ⁻⁽ʲ⁺¹⁾ with φ the root of φ^(np+1) = φ + 1
-/// (Roberts' R_d): deterministic, every coordinate spread over its whole
-/// range from the first points on, however many parameters there are (a
-/// Halton sequence of 8 points leaves coordinates of base ≥ 17 below
-/// their middle).
+/// `count` points of the Halton sequence in [−SPREAD, SPREAD]^np (bases the
+/// first primes, index from 1): deterministic, evenly spread in every
+/// dimension however many parameters there are.
 fn spread_starts(np: usize, count: usize) -> Vec<Vec<f64>> {
-    let mut phi = 2.0f64;
-    for _ in 0..64 {
-        phi = (1.0 + phi).powf(1.0 / (np as f64 + 1.0));
-    }
-    let alpha: Vec<f64> = (1..=np).map(|j| phi.powi(-(j as i32)).fract()).collect();
-    (1..=count)
+    const PRIMES: [u64; 16] = [2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53];
+    let radical_inverse = |mut i: u64, base: u64| {
+        let (mut f, mut r) = (1.0, 0.0);
+        while i > 0 {
+            f /= base as f64;
+            r += f * (i % base) as f64;
+            i /= base;
+        }
+        r
+    };
+    (1..=count as u64)
         .map(|i| {
-            alpha
-                .iter()
-                .map(|a| SPREAD * (2.0 * (0.5 + i as f64 * a).fract() - 1.0))
+            (0..np)
+                .map(|j| {
+                    let base = PRIMES[j % PRIMES.len()];
+                    SPREAD * (2.0 * radical_inverse(i, base) - 1.0)
+                })
                 .collect()
         })
         .collect()
