@@ -1,6 +1,6 @@
 //! Step 1: the deck's own parameters updated ([`crate::updating::update`]
 //! with the diagnosis's update options: by default `frfup update`'s own
-//! pipeline, whose full-band estimate fits every line and channel and holds
+//! pipeline without its spread starts, whose full-band estimate fits every line and channel and holds
 //! a parameter the data do not determine at the deck's value), polished on
 //! all lines and channels when the update did not end in that estimate (the
 //! paper's method works on a few updating frequencies), and kept only if

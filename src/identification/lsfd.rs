@@ -147,9 +147,11 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
 
 /// Largest condition number of the column-scaled design for which
 /// [`solve_tall`] uses the normal equations. Their relative error, of order
-/// κ²ε (2e-6 at κ = 1e5), shrinks by about that factor again with one step
-/// of refinement on the residual, the same Cholesky factor reused (Björck,
-/// Numerical Methods for Least Squares Problems, 1996, §2.9).
+/// κ²ε (2e-6 at κ = 1e5), shrinks by about that factor with one step of
+/// refinement on the residual (the same Cholesky factor reused) down to the
+/// limit κ²ε·‖r‖/(‖A‖‖x‖) a QR solution shares when the fit leaves a
+/// residual (Björck, Numerical Methods for Least Squares Problems, 1996,
+/// §2.9).
 const NORMAL_COND: f64 = 1e5;
 
 /// [`solve`] for a tall design (the whole band: up to 10⁵ rows, tens of
@@ -306,6 +308,7 @@ fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
 const PRESCREEN: f64 = 0.25;
 
 fn retain_by<T>(items: &mut Vec<T>, keep: &[bool]) {
+    debug_assert_eq!(items.len(), keep.len());
     let mut k = keep.iter();
     items.retain(|_| *k.next().unwrap_or(&true));
 }

@@ -168,12 +168,8 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// The fitted FRF of channel `c` (in the test's kind) at ω (rad/s).
-    pub fn synthesise(&self, c: usize, omega: f64) -> c64 {
-        self.synthesise_lines(c, &[omega])[0]
-    }
-
-    /// [`Self::synthesise`] at every ω of `omega` (rad/s).
+    /// The fitted FRF of channel `c` (in the test's kind) at every ω of
+    /// `omega` (rad/s).
     pub fn synthesise_lines(&self, c: usize, omega: &[f64]) -> Vec<c64> {
         let poles: Vec<c64> = self.modes.iter().map(|m| m.pole).collect();
         let residues: Vec<c64> = self.modes.iter().map(|m| m.residues[c]).collect();

@@ -124,10 +124,13 @@ pub fn diagram(data: &Prepared, sums: &Sums, tol: &Tolerances) -> Result<Diagram
     // Every order's poles come from the same sums independently: computed
     // on all cores (each order's result does not depend on the thread),
     // then marked against the order below one after the other.
-    let per_order: Vec<Vec<lscf::OrderPole>> = (1..=sums.max_order)
+    // Collected whole first: the lowest failing order's error, not the
+    // first a thread met.
+    let per_order: Vec<Result<Vec<lscf::OrderPole>, IdentifyError>> = (1..=sums.max_order)
         .into_par_iter()
         .map(|order| lscf::poles(data, sums, order))
-        .collect::<Result<_, _>>()?;
+        .collect();
+    let per_order: Vec<Vec<lscf::OrderPole>> = per_order.into_iter().collect::<Result<_, _>>()?;
     let mut all: Vec<DiagramPole> = Vec::new();
     let mut below: Vec<DiagramPole> = Vec::new();
     for (order, poles) in (1..=sums.max_order).zip(per_order) {

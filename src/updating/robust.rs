@@ -7,8 +7,10 @@
 //! 2. The full-band estimate ([`estimate`]): every line and channel, the
 //!    damping fitted along, bounds and priors, from the better of the deck
 //!    (p̄ = 0) and stage 1's best iteration, and from the other too when the
-//!    better ends above the noise level. Its parameters are the result, with
-//!    their uncertainty; the update has converged when this stage has.
+//!    better ends above the noise level; when all of them end far above it
+//!    (4×), from up to `spread_starts` points spread over ±0.3 too. Its
+//!    parameters are the result, with their uncertainty; the update has
+//!    converged when this stage has.
 //! 3. The final parameters are scored like an iteration (SFDAC at the
 //!    updating frequencies, pairs, FDAC) and appended as the last record,
 //!    so that every table and chart shows the model returned.

@@ -158,7 +158,6 @@ pub fn write_outputs(r: &IdentifyReport, dir: &Path) -> Result<(), ReportError> 
     if let Some(svg) = &charts.shapes {
         write(viewer::STILL_FILE, svg.as_bytes())?;
     }
-    let html = page::html(r, &charts);
-    write("report.html", html.as_bytes())?;
+    write("report.html", page::html(r, &charts).as_bytes())?;
     Ok(())
 }
