@@ -319,13 +319,35 @@ pub fn csv_number_sig(x: f64, digits: usize) -> String {
         return sci;
     };
     let exponent: i32 = exponent.parse().unwrap_or(0);
-    let rounded: f64 = sci.parse().unwrap_or(x);
-    if (1e-4..1e6).contains(&rounded.abs()) {
-        let decimals = (digits.max(1) as i32 - 1 - exponent).max(0) as usize;
-        trim_zeros(format!("{rounded:.decimals$}"))
-    } else {
-        format!("{}e{exponent}", trim_zeros(mantissa.to_string()))
+    // The rounded value is m·10^e with 1 ≤ |m| < 10, so 1e-4 ≤ |x| < 1e6
+    // exactly when −4 ≤ e ≤ 5: the plain decimal is the mantissa's figures
+    // with the point moved, no second rounding.
+    if !(-4..=5).contains(&exponent) {
+        return format!("{}e{exponent}", trim_zeros(mantissa.to_string()));
     }
+    let (sign, body) = match mantissa.strip_prefix('-') {
+        Some(b) => ("-", b),
+        None => ("", mantissa),
+    };
+    let figures: String = body.chars().filter(|c| *c != '.').collect();
+    let mut out = String::with_capacity(figures.len() + 8);
+    out.push_str(sign);
+    // Figures before the decimal point.
+    let whole = exponent + 1;
+    if whole <= 0 {
+        out.push_str("0.");
+        out.extend(std::iter::repeat_n('0', whole.unsigned_abs() as usize));
+        out.push_str(&figures);
+    } else if whole as usize >= figures.len() {
+        out.push_str(&figures);
+        out.extend(std::iter::repeat_n('0', whole as usize - figures.len()));
+    } else {
+        let (int, frac) = figures.split_at(whole as usize);
+        out.push_str(int);
+        out.push('.');
+        out.push_str(frac);
+    }
+    trim_zeros(out)
 }
 
 /// `1.500` → `1.5`, `2.000` → `2`; text without a decimal point unchanged.

@@ -139,9 +139,21 @@ pub fn render_report(
         ),
         ("mac.svg".into(), embedded.mac.clone().into_bytes()),
     ];
-    for (i, ch) in data.frf.channels.iter().enumerate() {
-        let name = channel_file(i, &ch.label);
-        let svg = chart(&name, charts::frf_overlay::render_channel(&data.frf, i))?;
+    // One chart per channel, on every core, kept in channel order.
+    let channel_charts: Vec<(String, String)> = {
+        use rayon::prelude::*;
+        data.frf
+            .channels
+            .par_iter()
+            .enumerate()
+            .map(|(i, ch)| {
+                let name = channel_file(i, &ch.label);
+                let svg = chart(&name, charts::frf_overlay::render_channel(&data.frf, i))?;
+                Ok((name, svg))
+            })
+            .collect::<Result<_, ReportError>>()?
+    };
+    for ((name, svg), ch) in channel_charts.into_iter().zip(&data.frf.channels) {
         files.push((name, svg.clone().into_bytes()));
         embedded.frf_channels.push((ch.label.clone(), svg));
     }
