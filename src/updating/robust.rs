@@ -30,9 +30,17 @@ use crate::testdata::MeasuredFrfs;
 /// Misfit (mean squared residual over its noise-level value) above which the
 /// update warns that its parameters do not explain the test.
 const MISFIT_WARNING: f64 = 4.0;
-/// Misfit above which the estimate is run again from the other starts
-/// (1 is the noise level; 1.5 leaves room for the noise estimate's scatter).
-const RESTART_MISFIT: f64 = 1.5;
+/// Misfit above which the estimate is run again from the other starts: the
+/// noise level itself. The noise level's estimate runs high (at the truth
+/// the fits of the update benchmark sit at 0.94× it; the median of its 200
+/// cases is 0.935×, 8 are above 1), so a minimum at or above it may be a
+/// local one: case 147 of seed 1 ended at 1.017× from the first stage's
+/// result with two parameters 0.07 from the truth, 100 standard deviations,
+/// where the deck's start reaches the truth at 0.955×.
+const RESTART_MISFIT: f64 = 1.0;
+/// Misfit at which the spread starts stop (1.5 leaves room for the noise
+/// estimate's scatter; each costs a whole estimate).
+const SPREAD_STOP: f64 = 1.5;
 
 /// Run the robust pipeline.
 pub fn update_robust(
@@ -131,7 +139,7 @@ fn best_estimate(
                     best = other;
                 }
             }
-            if best.misfit <= RESTART_MISFIT {
+            if best.misfit <= SPREAD_STOP {
                 break;
             }
         }

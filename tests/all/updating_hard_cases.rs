@@ -301,3 +301,40 @@ fn a_frequency_fit_leaves_the_parameters_it_cannot_see_near_the_start() {
         );
     }
 }
+
+/// A minimum just above the noise level is not taken for the one the data
+/// support: the update benchmark's case 147 of seed 1 (10 channels, five
+/// Young's moduli and second moments). From the first stage's result the
+/// estimate ended at 1.017× the noise level with `Iy_m2s3` and `E_m1s1`
+/// 0.07 from the truth (100 standard deviations); from the deck it reaches
+/// the truth at 0.955× (measured: every parameter within 4e-4). Tolerance
+/// 0.005: the standard deviations are 0.0001–0.002.
+#[test]
+fn a_minimum_just_above_the_noise_level_sends_the_estimate_to_the_other_starts() {
+    use frfup::benchmark::{case_seed, generate, GenOptions};
+    let case = generate(case_seed(1, 147), &GenOptions::default()).expect("generate");
+    assert!(
+        (case.params[0].value + 0.2711).abs() < 1e-4,
+        "the generator drew another case"
+    );
+    let model = frfup::parsers::deck::parse(&case.model_deck).unwrap();
+    let bytes = case.uff_bytes().unwrap();
+    let file = frfup::parsers::uff::parse(&bytes).unwrap();
+    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
+    let r = frfup::updating::update(&model, &test, &frfup::updating::UpdateOptions::default())
+        .expect("update runs");
+    let est = r.estimate.as_ref().expect("full-band estimate");
+    assert!(r.converged && est.misfit < 1.0, "misfit {}", est.misfit);
+    assert_eq!(est.start, 0, "the deck's start");
+    for p in &case.params {
+        let e = est.parameters.iter().find(|e| e.name == p.name).unwrap();
+        assert!(
+            e.identified && (e.value - p.value).abs() < 0.005,
+            "{}: {} ± {} vs {}",
+            p.name,
+            e.value,
+            e.sd,
+            p.value
+        );
+    }
+}
