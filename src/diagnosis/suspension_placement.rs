@@ -177,8 +177,30 @@ pub fn placements(
         all.extend(found);
     }
     all.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
-    all.truncate(count);
+    let kept = tied_with_the_best(&all, count);
+    all.truncate(kept);
     all
+}
+
+/// Placements whose scores differ by less than this are alike (the springs'
+/// rows of the rigid-body modes equal to rounding: nodes above one another
+/// under vertical springs). Far below [`PER_SPRING`] and [`OFF_HARD_POINT`].
+const TIE: f64 = 1e-9;
+
+/// How many of `sorted` to keep: the best `count`, and every further one
+/// tied with the last of them (up to `2·count` in all), so that sets alike
+/// in their rigid-body effect all reach the FRF fit and are named as
+/// alternatives of each other, instead of rounding choosing among them.
+fn tied_with_the_best(sorted: &[Placement], count: usize) -> usize {
+    let mut kept = count.min(sorted.len());
+    if kept == 0 {
+        return 0;
+    }
+    let last = sorted[kept - 1].score;
+    while kept < sorted.len().min(2 * count) && sorted[kept].score - last <= TIE {
+        kept += 1;
+    }
+    kept
 }
 
 /// Indices (into `nodes`) of the nodes of the best pairs, at most
