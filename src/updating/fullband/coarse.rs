@@ -4,8 +4,9 @@
 //! the cap, e.g. a noise peak of a log-spaced axis at low frequency, says
 //! nothing about how far the model is), fit p̄ to
 //! the resonance frequencies alone ([`fit::frequency_residuals`], smooth
-//! where the FRF misfit is flat or rough), with the priors, then refit the
-//! damping; kept only if the full-band cost falls.
+//! where the FRF misfit is flat or rough), with the priors (a parameter
+//! without one is held near the start by a prior of sd [`COARSE_STAY`]),
+//! then refit the damping; kept only if the full-band cost falls.
 
 use faer::Mat;
 use frfup_parsers::deck::Deck;
