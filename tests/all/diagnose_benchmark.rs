@@ -193,11 +193,10 @@ fn shear_deformation_behind_parameter_errors() {
     assert!(d.diagnosed.frf_error < 1.25, "{}", d.diagnosed.frf_error);
 }
 
-/// Case `i` of the seed-1 benchmark set (`random_benchmark --diagnose
-/// --seed 1`, full-size options), diagnosed in-process and scored; it must
-/// be right, with no false finding and at the noise level (1.25, the
-/// diagnosis's own bound). Returns its score and diagnosis.json.
-fn right_at_noise_level(i: u64) -> (DiagScore, serde_json::Value) {
+/// Case `i` of the seed-1 benchmark set (full-size options) diagnosed
+/// in-process with the defaults: its score, diagnosis.json and the
+/// diagnosed model's FRF error (noise units).
+fn diagnosed(i: u64) -> (DiagScore, serde_json::Value, f64) {
     let c = generate_diagnosis(case_seed(1, i), &GenOptions::diagnosis()).expect("generate");
     let model = deck::parse(&c.model_deck).unwrap();
     let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
@@ -205,7 +204,15 @@ fn right_at_noise_level(i: u64) -> (DiagScore, serde_json::Value) {
     let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
     let json = diagnosis_json(&d);
     let s = score_diagnosis(&c.truth_json(), &model, Some(&json));
-    let error = d.diagnosed.frf_error;
+    (s, json, d.diagnosed.frf_error)
+}
+
+/// Case `i` of the seed-1 benchmark set (`random_benchmark --diagnose
+/// --seed 1`, full-size options), diagnosed in-process and scored; it must
+/// be right, with no false finding and at the noise level (1.25, the
+/// diagnosis's own bound). Returns its score and diagnosis.json.
+fn right_at_noise_level(i: u64) -> (DiagScore, serde_json::Value) {
+    let (s, json, error) = diagnosed(i);
     println!("case {i}: reported {:?}, FRF error {error}", s.reported);
     assert!(s.right(), "case {i}: {:?}", s.reported);
     assert!(
@@ -287,13 +294,7 @@ fn a_candidate_that_stands_in_for_the_parameters_is_set_aside() {
 /// whichever the noise picks.
 #[test]
 fn placements_alike_in_their_rigid_body_effect_are_all_named() {
-    let c = generate_diagnosis(case_seed(1, 36), &GenOptions::diagnosis()).expect("generate");
-    let model = deck::parse(&c.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
-    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-    let json = diagnosis_json(&d);
-    let s = score_diagnosis(&c.truth_json(), &model, Some(&json));
+    let (s, json, _) = diagnosed(36);
     assert!(s.right_or_tied() && s.false_findings.is_empty(), "{json}");
     let f = &json["findings"][0];
     assert_eq!(f["physics"], "suspension", "{json}");

@@ -227,6 +227,39 @@ fn coarse_stage_ignores_resonances_the_model_cannot_pair() {
     assert!(!kept && p == start, "coarse stage moved the start to {p:?}");
 }
 
+/// Case `i` of the update benchmark's seed-1 set, updated with the
+/// defaults: the case (its truth) and the update's result.
+fn benchmark_case_updated(i: u64) -> (frfup::benchmark::Case, frfup::updating::UpdateResult) {
+    use frfup::benchmark::{case_seed, generate, GenOptions};
+    let case = generate(case_seed(1, i), &GenOptions::default()).expect("generate");
+    let model = parse(&case.model_deck).unwrap();
+    let bytes = case.uff_bytes().unwrap();
+    let file = frfup::parsers::uff::parse(&bytes).unwrap();
+    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
+    let r = update(&model, &test, &UpdateOptions::default()).expect("update runs");
+    (case, r)
+}
+
+/// Every parameter of the truth identified and within `tol` of it.
+fn every_parameter_within(
+    case: &frfup::benchmark::Case,
+    r: &frfup::updating::UpdateResult,
+    tol: f64,
+) {
+    let est = r.estimate.as_ref().expect("full-band estimate");
+    for p in &case.params {
+        let e = est.parameters.iter().find(|e| e.name == p.name).unwrap();
+        assert!(
+            e.identified && (e.value - p.value).abs() < tol,
+            "{}: {} ± {} vs {}",
+            p.name,
+            e.value,
+            e.sd,
+            p.value
+        );
+    }
+}
+
 /// A local minimum every ordinary start falls into: the update benchmark's
 /// case 040 of seed 1 (clamped space frame, z only, the driving point not
 /// measured, 6 parameters, two of its four modes nearly invisible). From
@@ -237,30 +270,14 @@ fn coarse_stage_ignores_resonances_the_model_cannot_pair() {
 /// parameters' standard deviations are 0.0002–0.003.
 #[test]
 fn a_local_minimum_is_left_from_a_spread_start() {
-    use frfup::benchmark::{case_seed, generate, GenOptions};
     use frfup::updating::fullband::estimate::SPREAD_START;
-    let case = generate(case_seed(1, 40), &GenOptions::default()).expect("generate");
+    let (case, r) = benchmark_case_updated(40);
     assert!(!case.driving_point_measured());
-    let model = frfup::parsers::deck::parse(&case.model_deck).unwrap();
-    let bytes = case.uff_bytes().unwrap();
-    let file = frfup::parsers::uff::parse(&bytes).unwrap();
-    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
-    let r = frfup::updating::update(&model, &test, &frfup::updating::UpdateOptions::default())
-        .expect("update runs");
     let est = r.estimate.as_ref().expect("full-band estimate");
     assert!(r.converged, "misfit {}", est.misfit);
     assert!(est.start >= SPREAD_START, "start {}", est.start);
     assert!(est.misfit < 1.5, "misfit {}", est.misfit);
-    for p in &case.params {
-        let e = est.parameters.iter().find(|e| e.name == p.name).unwrap();
-        assert!(
-            (e.value - p.value).abs() < 0.01,
-            "{}: {} vs {}",
-            p.name,
-            e.value,
-            p.value
-        );
-    }
+    every_parameter_within(&case, &r, 0.01);
 }
 
 /// Parameters the resonance frequencies do not see are held near the start
@@ -275,31 +292,14 @@ fn a_local_minimum_is_left_from_a_spread_start() {
 /// 0.00002–0.0008. Tolerance 0.005 (six of the largest sd).
 #[test]
 fn a_frequency_fit_leaves_the_parameters_it_cannot_see_near_the_start() {
-    use frfup::benchmark::{case_seed, generate, GenOptions};
-    let case = generate(case_seed(1, 125), &GenOptions::default()).expect("generate");
+    let (case, r) = benchmark_case_updated(125);
     assert!(
         (case.params[2].value - 0.2383).abs() < 1e-4,
         "the generator drew another case"
     );
-    let model = frfup::parsers::deck::parse(&case.model_deck).unwrap();
-    let bytes = case.uff_bytes().unwrap();
-    let file = frfup::parsers::uff::parse(&bytes).unwrap();
-    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
-    let r = frfup::updating::update(&model, &test, &frfup::updating::UpdateOptions::default())
-        .expect("update runs");
     let est = r.estimate.as_ref().expect("full-band estimate");
     assert!(r.converged && est.misfit < 1.0, "misfit {}", est.misfit);
-    for p in &case.params {
-        let e = est.parameters.iter().find(|e| e.name == p.name).unwrap();
-        assert!(
-            e.identified && (e.value - p.value).abs() < 0.005,
-            "{}: {} ± {} vs {}",
-            p.name,
-            e.value,
-            e.sd,
-            p.value
-        );
-    }
+    every_parameter_within(&case, &r, 0.005);
 }
 
 /// A minimum just above the noise level is not taken for the one the data
@@ -311,30 +311,13 @@ fn a_frequency_fit_leaves_the_parameters_it_cannot_see_near_the_start() {
 /// 0.005: the standard deviations are 0.0001–0.002.
 #[test]
 fn a_minimum_just_above_the_noise_level_sends_the_estimate_to_the_other_starts() {
-    use frfup::benchmark::{case_seed, generate, GenOptions};
-    let case = generate(case_seed(1, 147), &GenOptions::default()).expect("generate");
+    let (case, r) = benchmark_case_updated(147);
     assert!(
         (case.params[0].value + 0.2711).abs() < 1e-4,
         "the generator drew another case"
     );
-    let model = frfup::parsers::deck::parse(&case.model_deck).unwrap();
-    let bytes = case.uff_bytes().unwrap();
-    let file = frfup::parsers::uff::parse(&bytes).unwrap();
-    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
-    let r = frfup::updating::update(&model, &test, &frfup::updating::UpdateOptions::default())
-        .expect("update runs");
     let est = r.estimate.as_ref().expect("full-band estimate");
     assert!(r.converged && est.misfit < 1.0, "misfit {}", est.misfit);
     assert_eq!(est.start, 0, "the deck's start");
-    for p in &case.params {
-        let e = est.parameters.iter().find(|e| e.name == p.name).unwrap();
-        assert!(
-            e.identified && (e.value - p.value).abs() < 0.005,
-            "{}: {} ± {} vs {}",
-            p.name,
-            e.value,
-            e.sd,
-            p.value
-        );
-    }
+    every_parameter_within(&case, &r, 0.005);
 }
