@@ -211,17 +211,7 @@ fn the_demo_writes_the_same_bytes_on_two_and_on_three_threads() {
         let dir = crate::cli_support::scratch_root()
             .join(format!("frfup-demo-t{threads}-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_frfup"))
-            .args(["demo", "--out", dir.to_str().unwrap()])
-            .env("CI", "true")
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .expect("run frfup");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        crate::cli_support::frfup_ok_on_threads(&["demo", "--out", dir.to_str().unwrap()], threads);
         dir
     };
     let (two, three) = (run("2"), run("3"));

@@ -220,18 +220,15 @@ fn a_long_record_gives_the_same_modes_on_two_and_on_three_threads() {
     ]);
     let run = |threads: &str| {
         let out = tmp(&format!("long-record-t{threads}"));
-        let done = Command::new(env!("CARGO_BIN_EXE_frfup"))
-            .args(["identify", uff.to_str().unwrap(), "--out"])
-            .arg(&out)
-            .arg("--quiet")
-            .env("CI", "true")
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .expect("run frfup");
-        assert!(
-            done.status.success(),
-            "{}",
-            String::from_utf8_lossy(&done.stderr)
+        crate::cli_support::frfup_ok_on_threads(
+            &[
+                "identify",
+                uff.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ],
+            threads,
         );
         out
     };

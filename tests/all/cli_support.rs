@@ -67,6 +67,23 @@ pub fn frfup(args: &[&str]) -> std::process::Output {
         .expect("run frfup")
 }
 
+/// Run `frfup` on a pool of `threads` threads (`RAYON_NUM_THREADS`) and
+/// insist on exit code 0.
+pub fn frfup_ok_on_threads(args: &[&str], threads: &str) -> std::process::Output {
+    let out = Command::new(env!("CARGO_BIN_EXE_frfup"))
+        .args(args)
+        .env("CI", "true")
+        .env("RAYON_NUM_THREADS", threads)
+        .output()
+        .expect("run frfup");
+    assert!(
+        out.status.success(),
+        "frfup {args:?} on {threads} threads: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// Run `frfup` and insist on exit code 0.
 pub fn frfup_ok(args: &[&str]) -> std::process::Output {
     let out = frfup(args);
