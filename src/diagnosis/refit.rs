@@ -26,9 +26,11 @@
 use frfup_parsers::deck::Deck;
 
 use crate::model::{self, ParameterValues};
+use crate::updating::fullband::lm::{self, LeastSquares, LmSettings};
 use crate::updating::fullband::prior::ParameterPrior;
+use faer::Mat;
 
-use super::fit::{self, DampingState, Mask, ModalModel};
+use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
 use super::select::Engine;
 
@@ -287,27 +289,26 @@ fn frf_stage(
     let k = problem.n_logs();
     let prior_scale = ParameterPrior::row_scale(fit::noise_level(data, mask));
     let prior_rows = ParameterPrior::rows(&problem.deck_priors);
-    // The model depends on x only: damping steps reuse it.
-    let mut cache: Option<(Vec<f64>, ModalModel)> = None;
-    let mut f = |x: &[f64]| -> Option<Vec<f64>> {
-        let key = &x[..n];
-        if cache.as_ref().is_none_or(|(k, _)| k.as_slice() != key) {
-            let mm = problem.model(engine, key)?;
-            cache = Some((key.to_vec(), mm));
-        }
-        let mm = &cache.as_ref()?.1;
-        let mut r = fit::residuals(
-            &fit::predict(mm, form.damping(&x[n..]), data, mask),
-            data,
-            mask,
-        );
-        ParameterPrior::push_rows(&problem.deck_priors, &x[k..n], prior_scale, &mut r);
-        Some(r)
+    let mut stage = FrfStage {
+        engine,
+        problem,
+        mask,
+        form,
+        n,
+        k,
+        prior_scale,
+        lo: lo.clone(),
+        hi: hi.clone(),
+        cache: None,
     };
     let mut start = x0.to_vec();
     start.extend(damp.x.iter().copied());
-    let out = fit::lm(&mut f, &start, &lo, &hi, iterations)?;
-    let jac = fit::jacobian(&mut f, &out.x, &out.residuals, &lo, &hi)?;
+    let settings = LmSettings {
+        max_iter: iterations,
+        ..LmSettings::default()
+    };
+    let out = lm::lm(&mut stage, &start, &lo, &hi, settings)?;
+    let jac = stage.jacobian(&out.x, &out.residuals, &vec![true; out.x.len()])?;
     let sd = fit::std_devs(jac.as_ref(), &out.residuals);
     Some((
         out.x[..n].to_vec(),
@@ -318,6 +319,69 @@ fn frf_stage(
         },
         sd[..n].to_vec(),
     ))
+}
+
+/// The FRF stage's least-squares problem over (x, damping logs): the
+/// model's unknowns by forward differences, the damping's columns exact
+/// ([`fit::damping_jacobian`]) on the model at x, which damping steps reuse.
+struct FrfStage<'a, 'b> {
+    engine: &'a Engine<'a>,
+    problem: &'a Joint<'b>,
+    mask: &'a Mask,
+    form: DampingForm,
+    /// Unknowns of the model (x), then the damping's.
+    n: usize,
+    /// Log parameters of the hypotheses among x (the deck's p̄ follow).
+    k: usize,
+    prior_scale: f64,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    cache: Option<(Vec<f64>, ModalModel)>,
+}
+
+impl FrfStage<'_, '_> {
+    fn model_at(&mut self, x: &[f64]) -> Option<&ModalModel> {
+        let key = &x[..self.n];
+        if self.cache.as_ref().is_none_or(|(k, _)| k.as_slice() != key) {
+            let mm = self.problem.model(self.engine, key)?;
+            self.cache = Some((key.to_vec(), mm));
+        }
+        Some(&self.cache.as_ref()?.1)
+    }
+}
+
+impl LeastSquares for FrfStage<'_, '_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        let (n, k, form, mask) = (self.n, self.k, self.form, self.mask);
+        let data = self.engine.data;
+        let mm = self.model_at(x)?;
+        let mut r = fit::residuals(
+            &fit::predict(mm, form.damping(&x[n..]), data, mask),
+            data,
+            mask,
+        );
+        let priors = &self.problem.deck_priors;
+        ParameterPrior::push_rows(priors, &x[k..n], self.prior_scale, &mut r);
+        Some(r)
+    }
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
+        let n = self.n;
+        // The damping's columns first, on the model at x (kept from the
+        // residuals at x), then the model's by differences.
+        let (form, mask, data) = (self.form, self.mask, self.engine.data);
+        let damping = fit::damping_jacobian(self.model_at(x)?, form, &x[n..], data, mask);
+        let model_free: Vec<bool> = (0..x.len()).map(|i| i < n && free[i]).collect();
+        let (lo, hi) = (self.lo.clone(), self.hi.clone());
+        let mut f = |y: &[f64]| self.residuals(y);
+        let mut jac = lm::forward_differences(&mut f, x, r, &lo, &hi, &model_free)?;
+        // Prior rows (after the data rows) do not depend on the damping.
+        for j in (0..damping.ncols()).filter(|&j| free[n + j]) {
+            for i in 0..damping.nrows() {
+                jac[(i, n + j)] = damping[(i, j)];
+            }
+        }
+        Some(jac)
+    }
 }
 
 /// Mean validation cost of a joint fit over the engine's folds: refit on

@@ -433,25 +433,7 @@ impl<'a> Engine<'a> {
     }
 
     fn damping_std(&self, mm: &ModalModel, d: &DampingState, mask: &Mask) -> Vec<f64> {
-        let r = fit::residuals(
-            &fit::predict(mm, d.damping(), self.data, mask),
-            self.data,
-            mask,
-        );
-        let form = d.form;
-        let mut f = |x: &[f64]| {
-            Some(fit::residuals(
-                &fit::predict(mm, form.damping(x), self.data, mask),
-                self.data,
-                mask,
-            ))
-        };
-        let big = vec![f64::INFINITY; d.x.len()];
-        let small = vec![f64::NEG_INFINITY; d.x.len()];
-        match fit::jacobian(&mut f, &d.x, &r, &small, &big) {
-            Some(j) => fit::std_devs(j.as_ref(), &r),
-            None => vec![f64::INFINITY; d.x.len()],
-        }
+        fit::damping_std(mm, d, self.data, mask)
     }
 
     /// Standard deviations from the joint Jacobian (log parameter, damping logs).
@@ -474,17 +456,7 @@ impl<'a> Engine<'a> {
             return None;
         }
         let first: Vec<f64> = r2.iter().zip(&r).map(|(a, b)| (a - b) / step).collect();
-        let form = d.form;
-        let mut f = |x: &[f64]| {
-            Some(fit::residuals(
-                &fit::predict(&mm, form.damping(x), self.data, mask),
-                self.data,
-                mask,
-            ))
-        };
-        let big = vec![f64::INFINITY; d.x.len()];
-        let small = vec![f64::NEG_INFINITY; d.x.len()];
-        let damping = fit::jacobian(&mut f, &d.x, &r, &small, &big)?;
+        let damping = fit::damping_jacobian(&mm, d.form, &d.x, self.data, mask);
         let cols = faer::Mat::from_fn(r.len(), 1 + damping.ncols(), |i, j| match j {
             0 => first[i],
             _ => damping[(i, j - 1)],

@@ -207,70 +207,67 @@ pub fn modal_solution(fe: &FeModel, data: &TestData) -> Result<ModalSolution, Di
 /// vectorises; each channel still adds its terms in mode order, the same
 /// sums as a per-channel loop.
 pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) -> Vec<Vec<c64>> {
-    let nm = mm.omega2.len();
+    let lines: Vec<usize> = (0..data.omegas.len()).filter(|&l| mask.lines[l]).collect();
     let active: Vec<usize> = (0..data.channels.len())
         .filter(|&c| mask.channels[c])
         .collect();
-    let na = active.len();
-    let mut out: Vec<Vec<c64>> = (0..data.channels.len())
-        .map(|c| {
-            if mask.channels[c] {
-                Vec::with_capacity(data.omegas.len())
-            } else {
-                Vec::new()
-            }
-        })
-        .collect();
-    // a[r][k] for the active channels k.
-    let mut coeff = vec![0.0; nm * na];
-    for (k, &c) in active.iter().enumerate() {
-        debug_assert_eq!(mm.coeff[c].len(), nm, "one coefficient per mode");
-        for (r, &a) in mm.coeff[c].iter().enumerate().take(nm) {
-            coeff[r * na + k] = a;
+    let nl = lines.len();
+    // 1/d_r(ω) of every mode at every used line, real parts above imaginary.
+    let terms: Vec<_> = mm.omega2.iter().map(|&w2| damping.modal_term(w2)).collect();
+    let mut kernels = Mat::<f64>::zeros(2 * nl, mm.omega2.len());
+    for (r, (&w2, t)) in mm.omega2.iter().zip(&terms).enumerate() {
+        let (re, im) = kernels.as_mut().col_mut(r).split_at_row_mut(nl);
+        let (re, im) = (
+            re.try_as_col_major_mut().unwrap(),
+            im.try_as_col_major_mut().unwrap(),
+        );
+        for ((&l, kr), ki) in lines.iter().zip(re.as_slice_mut()).zip(im.as_slice_mut()) {
+            let inv = t.at(w2, data.omegas[l]).inv();
+            (*kr, *ki) = (inv.re, inv.im);
         }
     }
+    let sums = coefficient_product(mm, &active, kernels);
     let res_factor = match damping {
         Damping::Hysteretic { eta } => c64::new(1.0, eta).inv(),
         _ => c64::new(1.0, 0.0),
     };
-    let terms = mm.omega2.iter().map(|&w2| damping.modal_term(w2));
-    let (slopes, constants): (Vec<f64>, Vec<f64>) = terms.map(|t| (t.slope, t.constant)).unzip();
-    let (mut inv_re, mut inv_im) = (vec![0.0; nm], vec![0.0; nm]);
-    let (mut h_re, mut h_im) = (vec![0.0; na], vec![0.0; na]);
-    for (l, &w) in data.omegas.iter().enumerate() {
-        if !mask.lines[l] {
-            for &c in &active {
-                out[c].push(c64::new(f64::NAN, f64::NAN));
-            }
-            continue;
-        }
-        for (k, &c) in active.iter().enumerate() {
-            let h = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
-            (h_re[k], h_im[k]) = (h.re, h.im);
-        }
-        // 1/d_r(ω) for every mode: ModalDampingTerm::at and c64::inv written
-        // out over slices, so that the loop vectorises.
-        let ww = w * w;
-        let modes = mm.omega2.iter().zip(&slopes).zip(&constants);
-        for ((ir, ii), ((&w2, &s), &k)) in inv_re.iter_mut().zip(inv_im.iter_mut()).zip(modes) {
-            let (re, im) = (w2 - ww, s * w + k);
-            let n = re * re + im * im;
-            (*ir, *ii) = (re / n, -im / n);
-        }
-        for r in 0..nm {
-            let (dr, di) = (inv_re[r], inv_im[r]);
-            let row = &coeff[r * na..(r + 1) * na];
-            for ((hr, hi), &a) in h_re.iter_mut().zip(h_im.iter_mut()).zip(row) {
-                *hr += dr * a;
-                *hi += di * a;
-            }
-        }
-        let kind = crate::testdata::i_omega_power(w, data.kind.order());
-        for (k, &c) in active.iter().enumerate() {
-            out[c].push(c64::new(h_re[k], h_im[k]) * kind);
-        }
+    let mut out: Vec<Vec<c64>> = vec![Vec::new(); data.channels.len()];
+    for (k, &c) in active.iter().enumerate() {
+        let mut used = 0;
+        out[c] = (0..data.omegas.len())
+            .map(|l| {
+                if !mask.lines[l] {
+                    return c64::new(f64::NAN, f64::NAN);
+                }
+                let w = data.omegas[l];
+                let stat = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
+                let h = stat + c64::new(sums[(used, k)], sums[(nl + used, k)]);
+                used += 1;
+                h * crate::testdata::i_omega_power(w, data.kind.order())
+            })
+            .collect();
     }
     out
+}
+
+/// Σ_r a_cr g_r for kernels g given as rows (any number of lines and
+/// parts) × modes: `kernels` times the coefficients of `channels` (modes ×
+/// channels), one matrix product.
+pub fn coefficient_product(mm: &ModalModel, channels: &[usize], kernels: Mat<f64>) -> Mat<f64> {
+    let nm = mm.omega2.len();
+    let coeff = Mat::from_fn(nm, channels.len(), |r, k| mm.coeff[channels[k]][r]);
+    let mut sums = Mat::<f64>::zeros(kernels.nrows(), channels.len());
+    faer::linalg::matmul::matmul(
+        sums.as_mut(),
+        faer::Accum::Replace,
+        kernels.as_ref(),
+        coeff.as_ref(),
+        1.0,
+        faer::Par::Seq,
+    );
+    // libm's SSE-encoded functions follow (see vector_state).
+    crate::solvers::vector_state::clear();
+    sums
 }
 
 /// d_r(ω) of one mode ([`Damping::modal_denominator`], λ_r = ω_r²) and
@@ -475,30 +472,7 @@ impl DampingState {
     }
 }
 
-/// Fit the damping parameters of `state.form` to the masked data on one modal model.
-pub fn fit_damping(
-    mm: &ModalModel,
-    state: &DampingState,
-    data: &TestData,
-    mask: &Mask,
-    max_iter: usize,
-) -> (DampingState, Vec<f64>) {
-    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
-    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
-    let (lo, hi) = state.form.bounds(w_lo, w_hi);
-    let form = state.form;
-    let f = |x: &[f64]| -> Option<Vec<f64>> {
-        let pred = predict(mm, form.damping(x), data, mask);
-        Some(residuals(&pred, data, mask))
-    };
-    match lm(f, &state.x, &lo, &hi, max_iter) {
-        Some(o) => (DampingState { form, x: o.x }, o.residuals),
-        None => {
-            let pred = predict(mm, state.damping(), data, mask);
-            (state.clone(), residuals(&pred, data, mask))
-        }
-    }
-}
+pub use super::damping_fit::{damping_jacobian, damping_std, fit_damping};
 
 /// Fit the deck's own parameters (relative changes p̄, within the deck's
 /// `param` bounds, with its priors as in [`super::estimate`]) and the

@@ -9,6 +9,7 @@
 //! hypotheses with the same pieces.
 
 pub mod coarse;
+pub mod damping_fit;
 pub mod data;
 pub mod estimate;
 pub mod fit;

@@ -39,6 +39,7 @@ mod testdata;
 mod testdata_layout;
 mod updating_correlation;
 mod updating_frequencies;
+mod updating_fullband_damping_fit;
 mod updating_fullband_jacobian;
 mod updating_fullband_lines;
 mod updating_fullband_lm;
