@@ -1,20 +1,14 @@
 //! Unit tests of `src/updating/fullband/damping_fit.rs` through its public interface.
 
-use crate::unit::updating_fullband_reduced::{accelerances, beam_text};
+use crate::unit::updating_fullband_jacobian::central_difference_error;
+use crate::unit::updating_fullband_reduced::{accelerances, beam_text, beam_text_of};
 use faer::c64;
 use frfup::updating::fullband::fit::{self, DampingForm, DampingState, Mask};
 use frfup_parsers::deck::parse;
 
 /// A free-free steel beam 2.4 m long on soft springs (25 nodes, 72 DOFs).
 fn long_beam() -> frfup_parsers::deck::Deck {
-    let mut text =
-        String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
-    for i in 1..=25 {
-        text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
-    }
-    for i in 1..=24 {
-        text += &format!("beam {i} {i} {} st s\n", i + 1);
-    }
+    let mut text = beam_text_of(25);
     text += "mass 1 25 m=0.2\nspring 1 1 z k=500\nspring 2 25 z k=500\n";
     parse(&text).unwrap()
 }
@@ -60,20 +54,7 @@ fn damping_columns_match_central_differences() {
         let jac = fit::damping_jacobian(&mm, form, &x0, &data, &mask);
         assert_eq!((jac.nrows(), jac.ncols()), (r_at(&x0).len(), x0.len()));
         for j in 0..x0.len() {
-            let h = 1e-5;
-            let (mut xp, mut xm) = (x0.clone(), x0.clone());
-            xp[j] += h;
-            xm[j] -= h;
-            let fd: Vec<f64> = r_at(&xp)
-                .iter()
-                .zip(r_at(&xm))
-                .map(|(a, b)| (a - b) / (2.0 * h))
-                .collect();
-            let norm = fd.iter().map(|v| v * v).sum::<f64>().sqrt();
-            let err = (0..fd.len())
-                .map(|i| (fd[i] - jac[(i, j)]).powi(2))
-                .sum::<f64>()
-                .sqrt();
+            let (err, norm) = central_difference_error(&r_at, &x0, j, jac.col(j), 1e-5);
             // Central differences err by O(h²) ≈ 1e-10 of the column and
             // by rounding ≈ 1e-16/h; exact columns agree far inside 1e-7.
             assert!(

@@ -15,12 +15,18 @@ use frfup_parsers::deck::Deck;
 /// The deck text of a uniform steel beam in the x–z plane, 0.8 m on nodes
 /// 1–9 along x, beams 1–8 (nothing else).
 pub fn beam_text() -> String {
+    beam_text_of(9)
+}
+
+/// The deck text of a uniform steel beam in the x–z plane on `nodes` nodes
+/// 0.1 m apart along x, numbered from 1, one beam between each pair.
+pub fn beam_text_of(nodes: u32) -> String {
     let mut text =
         String::from("analysis plane\nmaterial st E=2.1e11 rho=7850\nsection s A=1e-3 Iy=2e-7\n");
-    for i in 1..=9 {
+    for i in 1..=nodes {
         text += &format!("node {i} {} 0 0\n", 0.1 * (i - 1) as f64);
     }
-    for i in 1..=8 {
+    for i in 1..nodes {
         text += &format!("beam {i} {i} {} st s\n", i + 1);
     }
     text
