@@ -692,7 +692,8 @@ fn group(w: &UpdateWarning) -> &'static str {
         }
         UpdateWarning::UnmatchedChannels { .. }
         | UpdateWarning::OtherReferences { .. }
-        | UpdateWarning::DuplicateChannel { .. } => "Channels skipped",
+        | UpdateWarning::DuplicateChannel { .. }
+        | UpdateWarning::SilentChannels { .. } => "Channels skipped",
         UpdateWarning::SkippedFrequency(_)
         | UpdateWarning::SuspensionModes { .. }
         | UpdateWarning::NearFeResonance { .. }

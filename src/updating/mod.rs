@@ -183,6 +183,9 @@ pub enum UpdateWarning {
     /// The full-band estimate's parameters give no usable model; the first
     /// stage's result is returned.
     EstimateRejected { reason: String },
+    /// Channels with no point above the noise floor, left out of the
+    /// full-band estimate.
+    SilentChannels { channels: Vec<String> },
     /// The final fit stays well above the noise level: the deck's parameters
     /// do not explain the test (missing physics, or a data error).
     Misfit { ratio: f64 },
@@ -274,6 +277,11 @@ impl fmt::Display for UpdateWarning {
             UpdateWarning::EstimateRejected { reason } => write!(
                 f,
                 "the full-band estimate's parameters give no usable model ({reason}); the first stage's result is returned"
+            ),
+            UpdateWarning::SilentChannels { channels } => write!(
+                f,
+                "channel(s) {} carry no response above the noise floor (below 1e-9 of the largest channel, or zero): left out of the full-band estimate",
+                channels.join(", ")
             ),
             UpdateWarning::Misfit { ratio } => write!(
                 f,

@@ -52,6 +52,12 @@ pub fn update_robust(
     let mut result = first_stage(deck, test, opts, progress)?;
     let (column, _) = crate::testdata::layout::as_column(test);
     let data = test_data(deck, &column)?;
+    let silent = data.silent_channels();
+    if !silent.is_empty() {
+        result
+            .warnings
+            .push(UpdateWarning::SilentChannels { channels: silent });
+    }
     let np = result.parameter_names.len();
     progress(UpdateProgress::EstimateStarted);
     let est = best_estimate(deck, &data, starts(&result, np), opts)?;
