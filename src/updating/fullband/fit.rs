@@ -451,14 +451,6 @@ where
     super::lm::lm_differences(f, x0, lo, hi, max_iter)
 }
 
-/// Forward-difference Jacobian ∂r/∂x (step 1e-4, backward at an upper bound).
-pub fn jacobian<F>(f: &mut F, x: &[f64], r: &[f64], lo: &[f64], hi: &[f64]) -> Option<Mat<f64>>
-where
-    F: FnMut(&[f64]) -> Option<Vec<f64>>,
-{
-    super::lm::forward_differences(f, x, r, lo, hi, &vec![true; x.len()])
-}
-
 /// Current damping model of a fit: its form and log parameters.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DampingState {
