@@ -1,8 +1,10 @@
 //! Scoring a case against its truth, and the summary of a run.
 //!
 //! A case is *within* when every identified parameter's estimate is within
-//! [`TOLERANCE`] (absolute, in relative-change units) of its true value; a
-//! truth is *covered* when |estimate − truth| ≤ 2 × reported sd.
+//! [`TOLERANCE`] (absolute, in relative-change units) of its true value and
+//! the fit explains the test (at most [`UNEXPLAINED_MISFIT`] times the
+//! noise level, where the report gives it); a truth is *covered* when
+//! |estimate − truth| ≤ 2 × reported sd.
 
 use std::collections::BTreeMap;
 
@@ -10,6 +12,14 @@ use serde_json::Value;
 
 /// Largest |p̂ − p| of an identified parameter for a case to count as within.
 pub const TOLERANCE: f64 = 0.02;
+
+/// Misfit (over the noise level) above which a parameter-only case is not
+/// within, however close the identified parameters: the update's own
+/// "the deck's parameters do not explain the test" warning. Parameters
+/// held as not identified are not scored, so without this a case whose
+/// held parameters leave the fit at hundreds of times the noise level
+/// would count (seed 2, case 122: 386×).
+pub const UNEXPLAINED_MISFIT: f64 = 4.0;
 
 /// One parameter estimate as a report gives it.
 #[derive(Clone, Debug, PartialEq)]
@@ -110,6 +120,13 @@ pub fn score_report(truth: &[(String, f64)], report: &Value) -> CaseScore {
             ..CaseScore::default()
         },
     };
+    let misfit = report
+        .get("estimate")
+        .and_then(|e| e.get("misfit_over_noise"))
+        .and_then(Value::as_f64);
+    if misfit.is_some_and(|m| m > UNEXPLAINED_MISFIT) && s.within.is_some() {
+        s.within = Some(false);
+    }
     s.converged = report.get("converged").and_then(Value::as_bool);
     s.stop = report
         .get("stop")

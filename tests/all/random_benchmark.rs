@@ -8,7 +8,8 @@ use std::path::Path;
 use std::time::Instant;
 
 use frfup::benchmark::{
-    case_seed, generate, score_estimates, Case, GenOptions, LayoutKind, ReportEstimate,
+    case_seed, generate, score_estimates, score_report, Case, GenOptions, LayoutKind,
+    ReportEstimate,
 };
 use frfup::model::{self, ParameterValues};
 use frfup::parsers::deck;
@@ -212,4 +213,27 @@ fn fixed_seed_subset() {
         "within 0.02 on {within} of {}",
         cases.len()
     );
+}
+
+/// A case whose identified parameters are right but whose fit stays far
+/// above the noise level (parameters held as not identified, seed 2's case
+/// 122 at 386×) is not within; at 4× and below the parameters decide.
+#[test]
+fn a_fit_far_above_the_noise_level_is_not_within() {
+    let truth = vec![("a".to_string(), 0.1), ("b".to_string(), -0.2)];
+    let report = |misfit: f64| {
+        serde_json::json!({
+            "converged": true,
+            "estimate": { "misfit_over_noise": misfit },
+            "parameter_estimates": [
+                { "name": "a", "value": 0.101, "sd": 0.001, "identified": true },
+                { "name": "b", "value": 0.0, "sd": 50.0, "identified": false }
+            ]
+        })
+    };
+    assert_eq!(score_report(&truth, &report(0.8)).within, Some(true));
+    assert_eq!(score_report(&truth, &report(4.0)).within, Some(true));
+    let far = score_report(&truth, &report(386.4));
+    assert_eq!(far.within, Some(false));
+    assert_eq!(far.identified, 1, "b is still not scored as identified");
 }
