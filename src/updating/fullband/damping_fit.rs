@@ -68,7 +68,8 @@ pub fn damping_jacobian(
             let stat = mm.residual[c] + w * w * mm.residual_mass[c];
             let h = f * stat + c64::new(sums[(i, k)], sums[(nl + i, k)]);
             let hm = h * crate::testdata::i_omega_power(w, data.kind.order());
-            if penalised(hm / data.values[c][l]) {
+            // The fixed penalty of fit::residuals does not depend on x.
+            if fit::log_ratio(hm / data.values[c][l]).is_none() {
                 row += 2;
                 continue;
             }
@@ -87,13 +88,6 @@ pub fn damping_jacobian(
         }
     }
     jac
-}
-
-/// Whether [`fit::residuals`] gives the point its fixed penalty instead of
-/// the logarithm of `ratio` (which then does not depend on x).
-fn penalised(ratio: c64) -> bool {
-    let finite = ratio.re.is_finite() && ratio.im.is_finite();
-    !(ratio.norm_sqr().is_normal() || (finite && ratio.norm() > 0.0))
 }
 
 /// Σ_r a_cr g_r(ω_l) for the kernels g = 1/d_r, then −i(∂D_r/∂x_k)/d_r² of

@@ -297,22 +297,27 @@ pub fn residuals(pred: &[Vec<c64>], data: &TestData, mask: &Mask) -> Vec<f64> {
             if !mask.lines[l] || w == 0.0 {
                 continue;
             }
-            let ratio = *hm / data.values[c][l];
-            let n2 = ratio.norm_sqr();
-            // ln|z| = ½ ln|z|² where |z|² is a normal number; hypot's
-            // scaling only where it would under- or overflow.
-            let (a, b) = if n2.is_normal() {
-                (0.5 * n2.ln(), ratio.arg())
-            } else if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
-                (ratio.norm().ln(), ratio.arg())
-            } else {
-                (10.0, std::f64::consts::PI)
-            };
+            let (a, b) = log_ratio(*hm / data.values[c][l]).unwrap_or((10.0, std::f64::consts::PI));
             r.push(w * a);
             r.push(w * b);
         }
     }
     r
+}
+
+/// ln z = (ln|z|, arg z) of a model-to-data ratio, or `None` where it is
+/// not finite or zero (the residual is then a fixed penalty that does not
+/// depend on the model). ln|z| = ½ ln|z|² where |z|² is a normal number;
+/// hypot's scaling only where it would under- or overflow.
+pub fn log_ratio(ratio: c64) -> Option<(f64, f64)> {
+    let n2 = ratio.norm_sqr();
+    if n2.is_normal() {
+        Some((0.5 * n2.ln(), ratio.arg()))
+    } else if ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0 {
+        Some((ratio.norm().ln(), ratio.arg()))
+    } else {
+        None
+    }
 }
 
 /// Noise-level cost J0 of a mask: mean expected squared residual from noise.
