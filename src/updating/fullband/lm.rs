@@ -131,25 +131,31 @@ pub fn lm(
                 let limit = problem.max_step(i);
                 xn[i] = (x[i] - step[k].clamp(-limit, limit)).clamp(lo[i], hi[i]);
             }
-            match problem.residuals(&xn) {
-                Some(rn) if cost(&rn) < c0 => {
+            let Some(rn) = problem.residuals(&xn).filter(|rn| cost(rn) < c0) else {
+                lambda *= 10.0;
+                continue;
+            };
+            // A problem that re-linearises at the new point judges the step
+            // there; a step that is worse is undone and a shorter one tried
+            // with the same Jacobian (it belongs to x, where the problem is
+            // back).
+            match problem.accepted(&xn) {
+                Some(relinearised) if cost(&relinearised) >= c0 => {
+                    problem.rejected(&x);
+                    lambda *= 10.0;
+                }
+                Some(relinearised) => {
+                    accepted = Some((xn, relinearised));
+                    break;
+                }
+                None => {
                     accepted = Some((xn, rn));
                     break;
                 }
-                _ => lambda *= 10.0,
             }
         }
         let Some((xn, rn)) = accepted else {
             return outcome(x, r, true, it + 1);
-        };
-        let rn = match problem.accepted(&xn) {
-            Some(relinearised) if cost(&relinearised) >= c0 => {
-                problem.rejected(&x);
-                lambda *= 10.0;
-                continue;
-            }
-            Some(relinearised) => relinearised,
-            None => rn,
         };
         let cn = cost(&rn);
         let moved = idx

@@ -35,11 +35,13 @@ fn fits_an_exponential_within_bounds() {
 /// model does). From x = 0.005 the linear model's first step lands near
 /// x = 1, where the true cost is 10⁴ times higher: that step must be
 /// undone, and the true cost at the anchors kept must fall monotonically
-/// to the root x = 0.1.
+/// to the root x = 0.1. The Jacobian at a point serves every step tried
+/// from it, an undone one included: one Jacobian per point kept.
 struct Linearised {
     anchor: f64,
     kept: Vec<f64>,
     undone: usize,
+    jacobians: usize,
 }
 
 impl LeastSquares for Linearised {
@@ -48,6 +50,7 @@ impl LeastSquares for Linearised {
         Some(vec![a * a - 0.01 + 2.0 * a * (x[0] - a)])
     }
     fn jacobian(&mut self, _x: &[f64], _r: &[f64], _free: &[bool]) -> Option<Mat<f64>> {
+        self.jacobians += 1;
         Some(Mat::from_fn(1, 1, |_, _| 2.0 * self.anchor))
     }
     fn accepted(&mut self, x: &[f64]) -> Option<Vec<f64>> {
@@ -68,10 +71,17 @@ fn a_step_worse_on_the_relinearised_problem_is_undone() {
         anchor: 0.005,
         kept: vec![0.005],
         undone: 0,
+        jacobians: 0,
     };
     let settings = LmSettings::default();
     let out = lm(&mut p, &[0.005], &[-10.0], &[10.0], settings).unwrap();
     assert!(p.undone >= 1, "no step was undone");
+    assert!(
+        p.jacobians <= p.kept.len(),
+        "{} Jacobians for {} points",
+        p.jacobians,
+        p.kept.len()
+    );
     let true_cost = |x: f64| (x * x - 0.01).powi(2);
     for w in p.kept.windows(2) {
         assert!(true_cost(w[1]) < true_cost(w[0]), "{:?}", p.kept);
