@@ -3,10 +3,12 @@
 //! F(x) = Σ_i r_i(x)² + Σ_j J₀ (p̄_j / s_j)², x = [p̄, damping logs]: the
 //! weighted log-FRF residuals of [`fit::residuals`] on the reduced model of
 //! [`super::reduced`], then one prior row √J₀·p̄_j/s_j per parameter with a
-//! prior. The reduced model is re-anchored (a new basis at the current p̄)
-//! once a step takes a property more than [`ANCHOR_DRIFT`] from the anchor,
-//! and at the end of each minimisation until the anchor sits at the optimum:
-//! there the reduced model's FRFs and Jacobian are the full model's.
+//! prior. The reduced model is re-anchored once a step takes a property
+//! more than [`ANCHOR_DRIFT`] from the anchor (the basis moved there from
+//! the old one, [`ReducedModel::moved`]), and at the end of each
+//! minimisation, from a new eigen solution of the full model, until the
+//! anchor sits at the optimum: there the reduced model's FRFs and Jacobian
+//! are the full model's.
 
 use faer::{c64, Mat};
 use frfup_parsers::deck::Deck;
@@ -44,7 +46,7 @@ pub struct Objective<'a> {
     pub cache: Option<(Vec<f64>, ReducedModes)>,
     /// The model FRFs at the last x.
     pub last: Option<(Vec<f64>, Vec<Vec<c64>>)>,
-    /// Full model solutions spent (one per anchor).
+    /// Full models built and solved (one per anchor, moved or new).
     pub solutions: usize,
     /// The storage of the last Jacobian, for the next one.
     pub spare: Option<Mat<f64>>,
@@ -134,12 +136,18 @@ impl LeastSquares for Objective<'_> {
         if self.reduced.as_ref()?.drift(&x[..np]) <= ANCHOR_DRIFT {
             return None;
         }
-        let previous = self.reduced.take();
-        if self.anchor(&x[..np]).is_err() {
-            self.reduced = previous;
+        self.modes(&x[..np])?;
+        let moved = {
+            let (model, at_p) = (self.reduced.as_ref()?, &self.cache.as_ref()?.1);
+            model.moved(self.deck, &self.names, &x[..np], self.data, at_p)
+        };
+        let Ok(moved) = moved else {
             return None;
-        }
-        self.previous = previous;
+        };
+        self.solutions += 1;
+        self.previous = self.reduced.replace(moved);
+        self.cache = None;
+        self.last = None;
         self.residuals(x)
     }
 

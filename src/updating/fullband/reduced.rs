@@ -45,6 +45,10 @@ pub struct ReducedModel {
     rows: Mat<f64>,
     /// DOFs of the full model.
     dofs: usize,
+    /// Columns of Φ in the basis.
+    band_modes: usize,
+    /// T (n × m).
+    basis: Mat<f64>,
 }
 
 /// The eigen solution of the reduced pencil at some p̄.
@@ -65,9 +69,7 @@ impl ReducedModel {
         p: &[f64],
         data: &TestData,
     ) -> Result<ReducedModel, FitError> {
-        let values: ParameterValues = names.iter().cloned().zip(p.iter().copied()).collect();
-        let built = model::updated_deck(deck, &values);
-        let fe = model::build(&built, &ParameterValues::new()).map_err(FitError::Model)?;
+        let fe = built_model(deck, names, p)?;
         let place = fit::placement(&fe, data)?;
         let mut modes = fit::band_modes(&fe, data)?;
         let n = fe.dofs.len();
@@ -76,7 +78,57 @@ impl ReducedModel {
             // every mode is cheaper and exact.
             modes = all_modes(&fe)?;
         }
-        let basis = ritz_basis(&fe.stiffness, &fe.mass, &modes.shapes, &place)?;
+        let chol = if modes.shapes.ncols() < n {
+            Some(shifted_cholesky(&fe)?)
+        } else {
+            None
+        };
+        ReducedModel::on_modes(&fe, p, &modes.shapes, &place, chol.as_ref())
+    }
+
+    /// The reduced model moved to p̄ = `p` from the one it leaves, whose
+    /// solution there is `at_p`: Φ from one block inverse iteration of the
+    /// full pencil on the old basis's Ritz vectors at p̄, X = (K − σM)⁻¹ M T Ψ,
+    /// and a Rayleigh–Ritz solution on X, instead of a new eigen solution of
+    /// the full model. A mode's error shrinks by ω_r²/ω²_{m+1} on top of the
+    /// old basis's Rayleigh–Ritz accuracy at p̄ (second order in the drift):
+    /// close to exact for the band's modes, not exact. Used between steps of
+    /// a minimisation, whose last anchor [`ReducedModel::new`] solves anew.
+    pub fn moved(
+        &self,
+        deck: &Deck,
+        names: &[String],
+        p: &[f64],
+        data: &TestData,
+        at_p: &ReducedModes,
+    ) -> Result<ReducedModel, FitError> {
+        let fe = built_model(deck, names, p)?;
+        let n = fe.dofs.len();
+        if self.band_modes >= n || fe.dofs.len() != self.dofs {
+            return ReducedModel::new(deck, names, p, data);
+        }
+        let place = fit::placement(&fe, data)?;
+        let chol = shifted_cholesky(&fe)?;
+        let ritz = &self.basis * &at_p.shapes;
+        let mut x = chol.solve(mass_times(&fe.mass, ritz.as_ref()).as_ref());
+        let Some(phi) = rayleigh_ritz(&fe, &mut x, self.band_modes) else {
+            return ReducedModel::new(deck, names, p, data);
+        };
+        ReducedModel::on_modes(&fe, p, &phi, &place, Some(&chol))
+    }
+
+    /// The reduced model on the basis [Φ | S] at p̄ = `p`.
+    fn on_modes(
+        fe: &crate::model::FeModel,
+        p: &[f64],
+        phi: &Mat<f64>,
+        place: &fit::Placement,
+        chol: Option<&ShiftedCholesky>,
+    ) -> Result<ReducedModel, FitError> {
+        let basis = match chol {
+            Some(chol) => ritz_basis(&fe.mass, phi, place, chol)?,
+            None => phi.clone(),
+        };
         let project = |s: &SparseMatrix, scale: f64| project(s, basis.as_ref(), scale);
         // ∂K/∂p̄ = ∂K/∂q · ∂q/∂p̄ with q the relative change of the deck as
         // built: (1 + q) = (1 + p̄)/(1 + p̄ₐ).
@@ -108,6 +160,8 @@ impl ReducedModel {
                 .collect(),
             rows,
             dofs: fe.dofs.len(),
+            band_modes: phi.ncols(),
+            basis,
         })
     }
 
@@ -195,6 +249,90 @@ impl ReducedModel {
     }
 }
 
+/// The deck built at p̄ = `p` (names in deck order).
+fn built_model(
+    deck: &Deck,
+    names: &[String],
+    p: &[f64],
+) -> Result<crate::model::FeModel, FitError> {
+    let values: ParameterValues = names.iter().cloned().zip(p.iter().copied()).collect();
+    let built = model::updated_deck(deck, &values);
+    model::build(&built, &ParameterValues::new()).map_err(FitError::Model)
+}
+
+/// K − σM factored, σ = −1e-8 of the largest K_ii/M_ii (positive definite
+/// with rigid-body modes).
+fn shifted_cholesky(fe: &crate::model::FeModel) -> Result<ShiftedCholesky, FitError> {
+    let (k, m) = (&fe.stiffness, &fe.mass);
+    let eig_err = |e: String| FitError::Eigen(e);
+    let scale = eigen::pencil_scale(k, m).map_err(|e| eig_err(e.to_string()))?;
+    ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio).map_err(|e| eig_err(e.to_string()))
+}
+
+/// M x for a sparse M.
+fn mass_times(m: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
+    let mut y = Mat::<f64>::zeros(m.nrows(), x.ncols());
+    sparse_dense_matmul(y.as_mut(), Accum::Replace, m.as_ref(), x, 1.0, Par::Seq);
+    y
+}
+
+/// The `count` lowest Rayleigh–Ritz vectors of (K, M) on the span of `x`
+/// (columns scaled to unit M-norm first: inverse iteration spreads them by
+/// orders of magnitude), M-orthonormal; `None` if XᵀMX is not positive
+/// definite or the span is too small.
+fn rayleigh_ritz(fe: &crate::model::FeModel, x: &mut Mat<f64>, count: usize) -> Option<Mat<f64>> {
+    if x.ncols() < count {
+        return None;
+    }
+    let mx = mass_times(&fe.mass, x.as_ref());
+    for c in 0..x.ncols() {
+        let norm = (0..x.nrows()).map(|i| x[(i, c)] * mx[(i, c)]).sum::<f64>();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return None;
+        }
+        let s = 1.0 / norm.sqrt();
+        x.col_mut(c).iter_mut().for_each(|v| *v *= s);
+    }
+    let kx = {
+        let mut y = Mat::<f64>::zeros(x.nrows(), x.ncols());
+        let k = &fe.stiffness;
+        sparse_dense_matmul(
+            y.as_mut(),
+            Accum::Replace,
+            k.as_ref(),
+            x.as_ref(),
+            1.0,
+            Par::Seq,
+        );
+        y
+    };
+    let kr = symmetrise(x.transpose() * &kx);
+    let mr = symmetrise(x.transpose() * mass_times(&fe.mass, x.as_ref()));
+    let l = mr.llt(Side::Lower).ok()?.L().to_owned();
+    let mut c = kr;
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        c.as_mut(),
+        Par::Seq,
+    );
+    let mut c = c.transpose().to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
+        l.as_ref(),
+        c.as_mut(),
+        Par::Seq,
+    );
+    let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
+    let mut y = eig.U().subcols(0, count).to_owned();
+    faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+        l.transpose(),
+        y.as_mut(),
+        Par::Seq,
+    );
+    let phi = &*x * &y;
+    let finite = phi.col_iter().all(|c| c.iter().all(|v| v.is_finite()));
+    finite.then_some(phi)
+}
+
 /// Every mode of `fe` (a small model).
 fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
     let opts = eigen::EigenOptions {
@@ -237,24 +375,14 @@ fn symmetrise(a: Mat<f64>) -> Mat<f64> {
 
 /// T = [Φ | S] with S the M-orthonormal static block (see the module doc).
 fn ritz_basis(
-    k: &SparseMatrix,
     m: &SparseMatrix,
     phi: &Mat<f64>,
     place: &fit::Placement,
+    chol: &ShiftedCholesky,
 ) -> Result<Mat<f64>, FitError> {
-    let n = k.nrows();
-    if phi.ncols() >= n {
-        return Ok(phi.clone());
-    }
+    let n = m.nrows();
     let eig_err = |e: String| FitError::Eigen(e);
-    let scale = eigen::pencil_scale(k, m).map_err(|e| eig_err(e.to_string()))?;
-    let chol =
-        ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio).map_err(|e| eig_err(e.to_string()))?;
-    let mass = |x: MatRef<'_, f64>| {
-        let mut y = Mat::<f64>::zeros(n, x.ncols());
-        sparse_dense_matmul(y.as_mut(), Accum::Replace, m.as_ref(), x, 1.0, Par::Seq);
-        y
-    };
+    let mass = |x: MatRef<'_, f64>| mass_times(m, x);
     // x ← x − Φ(ΦᵀMx): M-orthogonal to the computed modes.
     let deflate = |x: &mut Mat<f64>| {
         let c = phi.transpose() * mass(x.as_ref());
