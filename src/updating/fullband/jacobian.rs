@@ -24,7 +24,14 @@
 //! derivative is w·(∂H/∂x)/H. Row order is that of [`fit::residuals`].
 
 use faer::linalg::matmul::matmul;
-use faer::{c64, Accum, Mat, MatRef, Par};
+use std::ops::Range;
+
+use faer::prelude::ReborrowMut;
+use faer::{c64, Accum, Mat, MatMut, MatRef, Par};
+use rayon::prelude::*;
+
+/// A complex matrix as its real and imaginary parts.
+type Split = (Mat<f64>, Mat<f64>);
 
 use super::data::TestData;
 use super::fit::{self, DampingForm, Mask};
@@ -74,35 +81,91 @@ pub fn columns(
         }
         _ => Mat::<f64>::zeros(shape.0, shape.1),
     };
-    let nf = params.len();
-    let mut dh = (
-        Mat::<f64>::zeros(lines.len(), nf),
-        Mat::<f64>::zeros(lines.len(), nf),
-    );
-    for (c, pairs) in pairs.iter().enumerate().filter(|(_, p)| !p.is_empty()) {
-        let block = coef.as_ref().subcols(c * nf, nf);
-        complex_product_into(&mut dh, kernel.0.as_ref(), kernel.1.as_ref(), block);
-        for (k, &j) in params.iter().enumerate() {
-            fill(jac.col_as_slice_mut(j), &dh, k, pairs);
-        }
-    }
-    // Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) / d_r².
+    // Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) / d_r², one kernel per free
+    // damping unknown.
     let nd = pt.damping.len();
+    let damping: Vec<(usize, Split)> = (0..nd)
+        .filter(|&k| free[np + k])
+        .map(|k| (np + k, damping_kernel(pt, data, &lines, k)))
+        .collect();
     let a = Mat::from_fn(pt.modes.model.omega2.len(), nc, |r, c| {
         pt.modes.model.coeff[c][r]
     });
-    let mut dh = (
-        Mat::<f64>::zeros(lines.len(), nc),
-        Mat::<f64>::zeros(lines.len(), nc),
-    );
-    for k in (0..nd).filter(|&k| free[np + k]) {
-        let (qr, qi) = damping_kernel(pt, data, &lines, k);
-        complex_product_into(&mut dh, qr.as_ref(), qi.as_ref(), a.as_ref());
-        for (c, pairs) in pairs.iter().enumerate() {
-            fill(jac.col_as_slice_mut(np + k), &dh, c, pairs);
-        }
+    // Each group of channels writes its own rows, on its own thread: the
+    // same operations whatever the grouping, so the same bits.
+    let groups = channel_groups(&pairs, rayon::current_num_threads());
+    let mut parts = Vec::with_capacity(groups.len());
+    let (mut rest, mut taken) = (jac.as_mut(), 0);
+    for (channels, end) in groups {
+        let (head, tail) = rest.split_at_row_mut(end - taken);
+        parts.push((head, channels, taken));
+        (rest, taken) = (tail, end);
     }
+    parts
+        .into_par_iter()
+        .for_each(|(mut part, channels, offset)| {
+            let nf = params.len();
+            let mut dh = (
+                Mat::<f64>::zeros(lines.len(), nf),
+                Mat::<f64>::zeros(lines.len(), nf),
+            );
+            let mut dd = (
+                Mat::<f64>::zeros(lines.len(), 1),
+                Mat::<f64>::zeros(lines.len(), 1),
+            );
+            for c in channels.filter(|&c| !pairs[c].is_empty()) {
+                let block = coef.as_ref().subcols(c * nf, nf);
+                complex_product_into(&mut dh, kernel.0.as_ref(), kernel.1.as_ref(), block);
+                for (k, &j) in params.iter().enumerate() {
+                    fill(column(&mut part, j), &dh, k, &pairs[c], offset);
+                }
+                for (j, (qr, qi)) in &damping {
+                    let ac = a.as_ref().subcols(c, 1);
+                    complex_product_into(&mut dd, qr.as_ref(), qi.as_ref(), ac);
+                    fill(column(&mut part, *j), &dd, 0, &pairs[c], offset);
+                }
+            }
+        });
     jac
+}
+
+/// Column `j` of a column-major block as a slice.
+fn column<'a>(part: &'a mut MatMut<'_, f64>, j: usize) -> &'a mut [f64] {
+    part.rb_mut()
+        .col_mut(j)
+        .try_as_col_major_mut()
+        .expect("a column of a column-major matrix is contiguous")
+        .as_slice_mut()
+}
+
+/// Contiguous groups of channels with about equal numbers of rows, at most
+/// `count`, each with the end of its rows (the next group's first row).
+fn channel_groups(pairs: &[Vec<RowPair>], count: usize) -> Vec<(Range<usize>, usize)> {
+    let end_of = |c: usize| {
+        pairs[..=c]
+            .iter()
+            .rev()
+            .find_map(|p| p.last())
+            .map_or(0, |p| p.row + 2)
+    };
+    let total = pairs.len().checked_sub(1).map_or(0, end_of);
+    let count = count.clamp(1, pairs.len().max(1));
+    let mut groups = Vec::with_capacity(count);
+    let mut start = 0;
+    for g in 1..=count {
+        let target = total * g / count;
+        let mut c = start;
+        while c < pairs.len() && (g == count || end_of(c) < target) {
+            c += 1;
+        }
+        if g < count && c < pairs.len() {
+            c += 1;
+        }
+        let end = c.checked_sub(1).map_or(0, end_of);
+        groups.push((start..c, end));
+        start = c;
+    }
+    groups
 }
 
 /// Number of data rows of [`fit::residuals`] for `mask`.
@@ -122,7 +185,7 @@ pub fn data_rows(data: &TestData, mask: &Mask) -> usize {
 /// The per-line kernels [Re, Im] of [1/d_r | −(∂d_r/∂λ)/d_r² | ω^{2k}] over
 /// the used lines, low modes (λ ≤ (2ω_max)²) one by one and the others by
 /// their series; and the number of low modes.
-fn kernels(pt: &Point, data: &TestData, lines: &[usize]) -> ((Mat<f64>, Mat<f64>), usize) {
+fn kernels(pt: &Point, data: &TestData, lines: &[usize]) -> (Split, usize) {
     let lam = &pt.modes.model.omega2;
     let w_max = data.omegas.iter().fold(0.0f64, |a, w| a.max(*w));
     let nl = lam.iter().filter(|&&l| l <= (2.0 * w_max).powi(2)).count();
@@ -147,52 +210,67 @@ fn kernels(pt: &Point, data: &TestData, lines: &[usize]) -> ((Mat<f64>, Mat<f64>
 }
 
 /// The coefficients the kernels multiply: rows [∂a_cr | a_cr ∂λ_r | series
-/// terms], one column per (channel, free parameter).
+/// terms], one column per (channel, free parameter); each parameter's block
+/// on a thread of its own.
 fn parameter_coefficients(pt: &Point, params: &[usize], nl: usize) -> Mat<f64> {
+    let nc = pt.modes.at_dofs.nrows() - 1;
+    let nf = params.len();
+    let blocks: Vec<Mat<f64>> = params
+        .par_iter()
+        .map(|&j| parameter_block(pt, j, nl))
+        .collect();
+    let mut coef = Mat::<f64>::zeros(2 * nl + 3, nc * nf);
+    for (k, block) in blocks.iter().enumerate() {
+        for c in 0..nc {
+            coef.col_mut(c * nf + k).copy_from(block.col(c));
+        }
+    }
+    coef
+}
+
+/// The coefficients of parameter `j`, one column per channel.
+fn parameter_block(pt: &Point, j: usize, nl: usize) -> Mat<f64> {
     let psi = pt.modes.shapes.as_ref();
     let b = pt.modes.at_dofs.as_ref();
     let lam = &pt.modes.model.omega2;
     let a = &pt.modes.model.coeff;
-    let (m, nc, nf) = (lam.len(), b.nrows() - 1, params.len());
+    let (m, nc) = (lam.len(), b.nrows() - 1);
     let scale = lam[..nl]
         .iter()
         .fold(0.0f64, |s, l| s.max(l.abs()))
         .max(1e-300);
-    let mut coef = Mat::<f64>::zeros(2 * nl + 3, nc * nf);
-    for (k, &j) in params.iter().enumerate() {
-        let (dk, dm) = pt.model.derivative(j);
-        let p = congruence(psi, dk);
-        let q = congruence(psi, dm);
-        let dl: Vec<f64> = (0..m).map(|r| p[(r, r)] - lam[r] * q[(r, r)]).collect();
-        let e = Mat::from_fn(m, m, |s, r| {
-            let gap = lam[r] - lam[s];
-            let tie = 1e-8 * lam[r].abs().max(lam[s].abs()) + 1e-9 * scale;
-            if s == r || gap.abs() <= tie {
-                -0.5 * q[(s, r)]
+    let (dk, dm) = pt.model.derivative(j);
+    let p = congruence(psi, dk);
+    let q = dm.map_or_else(|| Mat::zeros(m, m), |dm| congruence(psi, dm));
+    let dl: Vec<f64> = (0..m).map(|r| p[(r, r)] - lam[r] * q[(r, r)]).collect();
+    let e = Mat::from_fn(m, m, |s, r| {
+        let gap = lam[r] - lam[s];
+        let tie = 1e-8 * lam[r].abs().max(lam[s].abs()) + 1e-9 * scale;
+        if s == r || gap.abs() <= tie {
+            -0.5 * q[(s, r)]
+        } else {
+            (p[(s, r)] - lam[r] * q[(s, r)]) / gap
+        }
+    });
+    let db = b * &e;
+    let mut block = Mat::<f64>::zeros(2 * nl + 3, nc);
+    for c in 0..nc {
+        for r in 0..m {
+            let da = db[(c, r)] * b[(nc, r)] + b[(c, r)] * db[(nc, r)];
+            let adl = a[c][r] * dl[r];
+            if r < nl {
+                block[(r, c)] = da;
+                block[(nl + r, c)] = adl;
             } else {
-                (p[(s, r)] - lam[r] * q[(s, r)]) / gap
-            }
-        });
-        let db = b * &e;
-        for c in 0..nc {
-            let col = c * nf + k;
-            for r in 0..m {
-                let da = db[(c, r)] * b[(nc, r)] + b[(c, r)] * db[(nc, r)];
-                let adl = a[c][r] * dl[r];
-                if r < nl {
-                    coef[(r, col)] = da;
-                    coef[(nl + r, col)] = adl;
-                } else {
-                    for t in 0..3 {
-                        let n = t as i32 + 1;
-                        coef[(2 * nl + t, col)] +=
-                            da / lam[r].powi(n) - n as f64 * adl / lam[r].powi(n + 1);
-                    }
+                for t in 0..3 {
+                    let n = t as i32 + 1;
+                    block[(2 * nl + t, c)] +=
+                        da / lam[r].powi(n) - n as f64 * adl / lam[r].powi(n + 1);
                 }
             }
         }
     }
-    coef
+    block
 }
 
 /// ΨᵀSΨ.
@@ -212,7 +290,7 @@ fn congruence(psi: MatRef<'_, f64>, s: MatRef<'_, f64>) -> Mat<f64> {
 }
 
 /// [Re, Im] of −i (∂D_r/∂x_k) / d_r² over the used lines and every mode.
-fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> (Mat<f64>, Mat<f64>) {
+fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> Split {
     let lam = &pt.modes.model.omega2;
     let damping = pt.form.damping(pt.damping);
     let e = DampingForm::exp_parameters(pt.damping);
@@ -232,7 +310,7 @@ fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> (Ma
 /// (G_r + iG_i)·C for a real C, its real and imaginary parts written into
 /// `out` (shaped rows of G × columns of C).
 fn complex_product_into(
-    out: &mut (Mat<f64>, Mat<f64>),
+    out: &mut Split,
     gr: MatRef<'_, f64>,
     gi: MatRef<'_, f64>,
     c: MatRef<'_, f64>,
@@ -286,15 +364,15 @@ fn row_pairs(
 }
 
 /// Write w·Re, w·Im of (iω)^k ∂H / H into one column of the Jacobian
-/// (`col`): ∂H over the used lines is column `src` of `dh`, the rows are
-/// one channel's `pairs`.
-fn fill(col: &mut [f64], dh: &(Mat<f64>, Mat<f64>), src: usize, pairs: &[RowPair]) {
+/// (`col`, whose first row is row `offset` of the whole): ∂H over the used
+/// lines is column `src` of `dh`, the rows are one channel's `pairs`.
+fn fill(col: &mut [f64], dh: &Split, src: usize, pairs: &[RowPair], offset: usize) {
     let (re, im) = (dh.0.col_as_slice(src), dh.1.col_as_slice(src));
     for p in pairs {
         if let Some(factor) = p.factor {
             let d = c64::new(re[p.line], im[p.line]) * factor;
-            col[p.row] = p.weight * d.re;
-            col[p.row + 1] = p.weight * d.im;
+            col[p.row - offset] = p.weight * d.re;
+            col[p.row - offset + 1] = p.weight * d.im;
         }
     }
 }

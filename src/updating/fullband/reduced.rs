@@ -37,9 +37,10 @@ pub struct ReducedModel {
     pub anchor: Vec<f64>,
     k: Mat<f64>,
     m: Mat<f64>,
-    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T per parameter.
+    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T per parameter (`None`: ∂M/∂p̄_j is
+    /// zero, as for every stiffness property).
     dk: Vec<Mat<f64>>,
-    dm: Vec<Mat<f64>>,
+    dm: Vec<Option<Mat<f64>>>,
     /// Rows of T at each channel's DOF (times the channel's sign), then at
     /// the excitation: (channels + 1) × m.
     rows: Mat<f64>,
@@ -156,7 +157,7 @@ impl ReducedModel {
                 .parameters
                 .iter()
                 .zip(&chain)
-                .map(|(q, &c)| project(&q.dm, c))
+                .map(|(q, &c)| (q.dm.compute_nnz() > 0).then(|| project(&q.dm, c)))
                 .collect(),
             rows,
             dofs: fe.dofs.len(),
@@ -170,9 +171,9 @@ impl ReducedModel {
         self.k.nrows()
     }
 
-    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T.
-    pub fn derivative(&self, j: usize) -> (MatRef<'_, f64>, MatRef<'_, f64>) {
-        (self.dk[j].as_ref(), self.dm[j].as_ref())
+    /// Tᵀ(∂K/∂p̄_j)T and Tᵀ(∂M/∂p̄_j)T (`None` where ∂M/∂p̄_j is zero).
+    pub fn derivative(&self, j: usize) -> (MatRef<'_, f64>, Option<MatRef<'_, f64>>) {
+        (self.dk[j].as_ref(), self.dm[j].as_ref().map(|m| m.as_ref()))
     }
 
     /// Largest relative change of a property between the anchor and `p`:
@@ -193,7 +194,9 @@ impl ReducedModel {
             let d = v - a;
             if d != 0.0 {
                 k += &self.dk[j] * d;
-                m += &self.dm[j] * d;
+                if let Some(dm) = &self.dm[j] {
+                    m += dm * d;
+                }
             }
         }
         let l = m.llt(Side::Lower).ok()?.L().to_owned();

@@ -80,3 +80,41 @@ fn analytic_columns_match_central_differences() {
         );
     }
 }
+
+/// The Jacobian's channel groups and parameters run on the threads there
+/// are, each with the same operations: one, two and three threads give the
+/// same matrix, bit for bit (the demo's bytes do not depend on the pool).
+#[test]
+fn the_same_columns_on_one_two_and_three_threads() {
+    let (deck, data) = beam();
+    let names = model::parameter_names(&deck);
+    let mask = Mask::all(&data);
+    let form = DampingForm::Modal;
+    let red = ReducedModel::new(&deck, &names, &[0.0; 4], &data).unwrap();
+    let x0 = [0.03, -0.02, 0.05, 0.1, 0.02f64.ln()];
+    let modes = red.solve(&x0[..4]).unwrap();
+    let pred = fit::predict(&modes.model, form.damping(&x0[4..]), &data, &mask);
+    let pt = Point {
+        model: &red,
+        modes: &modes,
+        form,
+        damping: &x0[4..],
+        pred: &pred,
+    };
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| columns(&pt, &data, &mask, &[true; 5], 0, None))
+    };
+    let one = on(1);
+    for threads in [2, 3] {
+        let other = on(threads);
+        assert!(
+            (0..one.nrows())
+                .all(|i| (0..5).all(|j| one[(i, j)].to_bits() == other[(i, j)].to_bits())),
+            "{threads} threads"
+        );
+    }
+}
