@@ -457,7 +457,7 @@ fn model(
             .estimate
             .as_ref()
             .and_then(|e| e.parameters.iter().find(|q| &q.name == name))
-            .is_some_and(|q| !q.identified);
+            .is_some_and(|q| !q.identified && q.held);
         let (value, factor) = if unidentified {
             ("not identified".to_string(), "1 (deck)".to_string())
         } else {

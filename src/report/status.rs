@@ -73,7 +73,8 @@ pub struct EstimateRow {
     pub value: String,
     /// "± 0.0123" (one standard deviation), or "–".
     pub sd: String,
-    /// "not identified by these data (kept at the deck's value)", "at its bound", or empty.
+    /// "not identified by these data (kept at the deck's value)", "… the
+    /// mirror image … fits as well", "at its bound", or empty.
     pub verdict: String,
     /// The deck's bounds and prior (`min=… max=… sd=…`), or empty.
     pub prior: String,
@@ -107,7 +108,7 @@ pub fn estimate_rows(est: &FullBandEstimate, deck: &Deck) -> Vec<EstimateRow> {
         .iter()
         .map(|p| EstimateRow {
             name: p.name.clone(),
-            value: if p.identified {
+            value: if p.identified || !p.held {
                 num(p.value)
             } else {
                 "not identified".into()
@@ -117,8 +118,10 @@ pub fn estimate_rows(est: &FullBandEstimate, deck: &Deck) -> Vec<EstimateRow> {
             } else {
                 "–".into()
             },
-            verdict: if !p.identified {
+            verdict: if !p.identified && p.held {
                 "not identified by these data (kept at the deck's value)".into()
+            } else if !p.identified {
+                "not identified by these data: the mirror image (values swapped along the unseen direction) fits as well".into()
             } else if p.at_bound {
                 "at its bound".into()
             } else {

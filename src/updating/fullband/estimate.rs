@@ -86,6 +86,11 @@ pub struct ParameterEstimate {
     pub prior: ParameterPrior,
     /// False: the data do not determine it (see the module doc).
     pub identified: bool,
+    /// Held at the deck's value. A parameter not identified and not held
+    /// takes part in a combination whose mirror image fits the data as well
+    /// (two like members' changes swapped): its value fits, but the data do
+    /// not say it rather than its mirror's.
+    pub held: bool,
     /// The estimate sits on `min` or `max`.
     pub at_bound: bool,
 }
@@ -160,7 +165,10 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     obj.solutions += spent;
     let (lo, hi) = bounds(&priors, damp.form, req.data);
     let x0 = [p, damp.x].concat();
-    let first = first_pass(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
+    let mut first = first_pass(&mut obj, &x0, &lo, &hi, req.max_iter, j0)?;
+    if !first.mirror.is_empty() {
+        first = mirror_test(&mut obj, first, &lo, &hi, req.max_iter, j0);
+    }
     let mut weighted = req.data.clone();
     let pred = obj
         .predict(&first.out.x)
@@ -172,7 +180,6 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
         prior_scale: ParameterPrior::row_scale(j0),
         ..obj
     };
-    let mut first = first;
     let mut second = second_pass(&mut obj, &first, &lo, &hi, 2 * req.max_iter, j0)?;
     // A parameter left free that still ends above its identification limit
     // is not identified either: it is held at the deck's value and the pass
@@ -198,13 +205,19 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     let np = names.len();
     let parameters = (0..np)
         .map(|j| {
-            let (v, sd, free) = (second.out.x[j], second.sd[j], second.free[j]);
+            let (v, mut sd, free) = (second.out.x[j], second.sd[j], second.free[j]);
+            let mirrored = first.mirror.iter().any(|d| in_direction(d, j));
+            if mirrored && free {
+                // Either value or its mirror's: half their distance.
+                sd = sd.max(first.mirror_spread.get(j).copied().unwrap_or(0.0));
+            }
             ParameterEstimate {
                 name: names[j].clone(),
                 value: v,
                 sd,
                 prior: priors[j],
-                identified: free && sd <= identification_limit(&priors[j]),
+                identified: free && !mirrored && sd <= identification_limit(&priors[j]),
+                held: !free,
                 at_bound: free && (v <= priors[j].min + 1e-9 || v >= priors[j].max - 1e-9),
             }
         })
@@ -221,6 +234,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
             .seen
             .missing
             .iter()
+            .chain(&first.mirror_sd)
             .map(|(v, s)| (named_direction(&names, v), *s))
             .collect(),
         model_solutions: obj.solutions,
@@ -285,7 +299,17 @@ fn best_start(
 struct FirstPass {
     out: LmOutcome,
     seen: Uncertainty,
+    /// Parameters held at the deck's value.
     unseen: Vec<usize>,
+    /// Directions (unit, over the parameters) that mix several parameters,
+    /// unseen at the deck or here: candidates for [`mirror_test`], then
+    /// those whose mirror fits as well.
+    mirror: Vec<Vec<f64>>,
+    /// The same directions with their standard deviation (at the deck).
+    mirror_sd: Vec<(Vec<f64>, f64)>,
+    /// Half the distance between this optimum and its mirror's, per
+    /// parameter, once [`mirror_test`] found them alike (else empty).
+    mirror_spread: Vec<f64>,
 }
 
 /// Minimise with the weak prior on the parameters that have none.
@@ -319,21 +343,167 @@ fn first_pass(
         *v = 0.0f64.clamp(lo[j], hi[j]);
     }
     let s2 = residual_variance(obj, &out, &all);
-    let at_deck = data_sd_at(obj, &x_deck, &all, s2).unwrap_or_else(|| seen.sd_data.clone());
+    let at_deck = data_sd_at(obj, &x_deck, &all, s2);
     obj.priors = priors;
-    let unseen: Vec<usize> = (0..np)
-        .filter(|&j| {
-            let pr = &obj.priors[j];
-            let limit = identification_limit(pr);
-            pr.sd.is_none() && !(seen.sd_data[j] <= limit && at_deck[j] <= limit)
-        })
-        .collect();
+    let without_prior: Vec<bool> = obj.priors.iter().map(|p| p.sd.is_none()).collect();
+    let directions = seen
+        .missing
+        .iter()
+        .chain(at_deck.iter().flat_map(|u| u.missing.iter()))
+        .map(|(v, _)| v.as_slice());
+    let (mut unseen, mirror) = unseen_subspace(directions, &without_prior);
+    let at_deck_sd = at_deck
+        .as_ref()
+        .map(|u| u.missing.clone())
+        .unwrap_or_default();
+    let at_deck = at_deck.map_or_else(|| seen.sd_data.clone(), |u| u.sd_data);
+    // A parameter above its limit at either point that no direction
+    // accounts for (its variance spread over several directions, each seen
+    // a little) is held too.
+    let mixed = |j: usize| mirror.iter().any(|v| in_direction(v, j));
+    for j in 0..np {
+        let limit = identification_limit(&obj.priors[j]);
+        let seen_both = seen.sd_data[j] <= limit && at_deck[j] <= limit;
+        if without_prior[j] && !seen_both && !mixed(j) && !unseen.contains(&j) {
+            unseen.push(j);
+        }
+    }
+    unseen.sort_unstable();
     let mut seen = seen;
-    for &j in &unseen {
+    for j in (0..np).filter(|&j| unseen.contains(&j) || mixed(j)) {
         // Report the larger of the two: the one that decided.
         seen.sd_data[j] = seen.sd_data[j].max(at_deck[j]);
     }
-    Ok(FirstPass { out, seen, unseen })
+    let mirror_sd = mirror
+        .iter()
+        .map(|v| {
+            let sd = at_deck_sd
+                .iter()
+                .chain(&seen.missing)
+                .filter(|(u, _)| v.iter().zip(u).map(|(a, b)| a * b).sum::<f64>().abs() > 0.7)
+                .fold(0.0f64, |m, (_, s)| m.max(*s));
+            (v.clone(), sd)
+        })
+        .collect();
+    Ok(FirstPass {
+        out,
+        seen,
+        unseen,
+        mirror,
+        mirror_sd,
+        mirror_spread: Vec::new(),
+    })
+}
+
+/// Two data costs Σr² closer than this many noise variances (J₀, times the
+/// misfit when the fit is above the noise level) cannot be told apart: a
+/// Δχ² of 9, three standard deviations along one direction.
+const AMBIGUITY: f64 = 9.0;
+
+/// The first pass again from its optimum mirrored across the deck's value
+/// along its mixed unseen directions (x − 2(vᵀx)v): where the data do not
+/// see a combination at the deck (two like members of a symmetric
+/// structure), the optimum found and its mirror image are both candidates,
+/// and the one pass cannot tell which basin it started in. The lower cost
+/// is kept; when the two are within [`AMBIGUITY`], the directions stay in
+/// `mirror` and their parameters are reported as not identified, else
+/// `mirror` is emptied and they are judged by their uncertainty alone.
+fn mirror_test(
+    obj: &mut Objective,
+    first: FirstPass,
+    lo: &[f64],
+    hi: &[f64],
+    max_iter: usize,
+    j0: f64,
+) -> FirstPass {
+    let mut x = first.out.x.clone();
+    for v in &first.mirror {
+        let along: f64 = v.iter().zip(&x).map(|(a, b)| a * b).sum();
+        for (j, vj) in v.iter().enumerate() {
+            x[j] = (x[j] - 2.0 * along * vj).clamp(lo[j], hi[j]);
+        }
+    }
+    let Ok(other) = first_pass(obj, &x, lo, hi, max_iter, j0) else {
+        return first;
+    };
+    let data_cost = |p: &FirstPass| {
+        let r = &p.out.residuals[..obj.data_rows(p.out.residuals.len())];
+        (r.iter().map(|v| v * v).sum::<f64>(), r.len())
+    };
+    let ((c1, n), (c2, _)) = (data_cost(&first), data_cost(&other));
+    let misfit = (c1.min(c2) / (n.max(1) as f64 * j0)).max(1.0);
+    let ambiguous = (c1 - c2).abs() < AMBIGUITY * j0 * misfit;
+    let (mirror, mirror_sd) = (first.mirror.clone(), first.mirror_sd.clone());
+    let spread: Vec<f64> = (0..obj.np())
+        .map(|j| 0.5 * (first.out.x[j] - other.out.x[j]).abs())
+        .collect();
+    let mut best = if c2 < c1 { other } else { first };
+    (best.mirror, best.mirror_sd, best.mirror_spread) = if ambiguous {
+        (mirror, mirror_sd, spread)
+    } else {
+        (Vec::new(), Vec::new(), Vec::new())
+    };
+    best
+}
+
+/// The subspace the data do not see, from the directions missed at the
+/// optimum and at the deck (unit vectors over the parameters), over the
+/// parameters without a prior of their own (a prior decides the others):
+/// an orthonormal basis of the span of those directions (eigenvectors of
+/// Σ v vᵀ with eigenvalue above ½: two directions within 60° count once).
+/// A basis vector along one parameter (component above [`COORDINATE`]) is
+/// returned as that parameter, to be held at the deck's value; the others
+/// as directions that mix parameters (two like members whose sum the data
+/// determine at the deck but not their difference), for [`mirror_test`].
+fn unseen_subspace<'a>(
+    directions: impl Iterator<Item = &'a [f64]>,
+    without_prior: &[bool],
+) -> (Vec<usize>, Vec<Vec<f64>>) {
+    let np = without_prior.len();
+    let mut gram = faer::Mat::<f64>::zeros(np, np);
+    for v in directions {
+        let u: Vec<f64> = (0..np)
+            .map(|j| if without_prior[j] { v[j] } else { 0.0 })
+            .collect();
+        let norm2: f64 = u.iter().map(|x| x * x).sum();
+        if norm2 < 0.25 {
+            continue;
+        }
+        for a in 0..np {
+            for b in 0..np {
+                gram[(a, b)] += u[a] * u[b] / norm2;
+            }
+        }
+    }
+    let (mut held, mut mixed) = (Vec::new(), Vec::new());
+    let Ok(eig) = gram.self_adjoint_eigen(faer::Side::Lower) else {
+        return (held, mixed);
+    };
+    for k in (0..np).rev().filter(|&k| eig.S()[k] > 0.5) {
+        let v: Vec<f64> = (0..np).map(|j| eig.U()[(j, k)]).collect();
+        let (jmax, vmax) =
+            v.iter().enumerate().fold(
+                (0, 0.0f64),
+                |a, (j, x)| if x.abs() > a.1 { (j, x.abs()) } else { a },
+            );
+        if vmax > COORDINATE {
+            held.push(jmax);
+        } else {
+            mixed.push(v);
+        }
+    }
+    (held, mixed)
+}
+
+/// A unit direction whose largest component exceeds this is along that
+/// parameter alone.
+const COORDINATE: f64 = 0.99;
+
+/// Parameter `j` takes part in direction `v` (a component of at least 0.1
+/// of its largest, as [`named_direction`] names them).
+fn in_direction(v: &[f64], j: usize) -> bool {
+    let vmax = v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
+    vmax > 0.0 && v[j].abs() >= 0.1 * vmax
 }
 
 /// The second pass's optimum, which unknowns it left free, and the
@@ -363,7 +533,8 @@ fn second_pass(
     }
     let out = minimise(obj, &x1, &lo2, &hi2, max_iter, NEGLIGIBLE * j0)?;
     let mut sd = uncertainty(obj, &out, &free, j0).sd;
-    for &j in &first.unseen {
+    let np = obj.np();
+    for j in (0..np).filter(|&j| !free[j]) {
         sd[j] = first.seen.sd_data[j];
     }
     Ok(SecondPass { out, free, sd })

@@ -105,9 +105,11 @@ pub fn uncertainty(obj: &mut Objective, out: &LmOutcome, free: &[bool], j0: f64)
 }
 
 /// The data-only standard deviations of the structural parameters at `x`
-/// (the reduced model anchored there), with the residual variance `s2` of
-/// another point (the optimum): the information a far point would hold.
-pub fn data_sd_at(obj: &mut Objective, x: &[f64], free: &[bool], s2: f64) -> Option<Vec<f64>> {
+/// (the reduced model anchored there) and the directions the data miss
+/// there, with the residual variance `s2` of another point (the optimum):
+/// the information a far point would hold. [`Uncertainty::sd`] is not
+/// computed (∞).
+pub fn data_sd_at(obj: &mut Objective, x: &[f64], free: &[bool], s2: f64) -> Option<Uncertainty> {
     let np = obj.np();
     obj.anchor(&x[..np]).ok()?;
     let r = obj.residuals(x)?;
@@ -121,7 +123,7 @@ pub fn data_sd_at(obj: &mut Objective, x: &[f64], free: &[bool], s2: f64) -> Opt
         missing: Vec::new(),
     };
     data_information(&mut u, j.as_ref(), &r[..data_n], &idx, np, Some(s2));
-    Some(u.sd_data)
+    Some(u)
 }
 
 /// ŝ² = Σr²/(N − n) over the data rows of `out` with n free unknowns.
