@@ -111,7 +111,7 @@ impl ReducedModel {
         let place = fit::placement(&fe, data)?;
         let chol = shifted_cholesky(&fe)?;
         let ritz = &self.basis * &at_p.shapes;
-        let mut x = chol.solve(mass_times(&fe.mass, ritz.as_ref()).as_ref());
+        let mut x = chol.solve(sparse_times(&fe.mass, ritz.as_ref()).as_ref());
         let Some(phi) = rayleigh_ritz(&fe, &mut x, self.band_modes) else {
             return ReducedModel::new(deck, names, p, data);
         };
@@ -185,8 +185,8 @@ impl ReducedModel {
             .fold(0.0, f64::max)
     }
 
-    /// Eigen solution of K_r(p̄) ψ = λ M_r(p̄) ψ (Cholesky of M_r, then a
-    /// symmetric eigenproblem); `None` if M_r is not positive definite.
+    /// Eigen solution of K_r(p̄) ψ = λ M_r(p̄) ψ ([`pencil_eigen`]); `None`
+    /// if M_r is not positive definite.
     pub fn solve(&self, p: &[f64]) -> Option<ReducedModes> {
         let mut k = self.k.clone();
         let mut m = self.m.clone();
@@ -199,31 +199,7 @@ impl ReducedModel {
                 }
             }
         }
-        let l = m.llt(Side::Lower).ok()?.L().to_owned();
-        // C = L⁻¹ K L⁻ᵀ.
-        let mut x = k;
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-            l.as_ref(),
-            x.as_mut(),
-            Par::Seq,
-        );
-        let mut c = x.transpose().to_owned();
-        faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-            l.as_ref(),
-            c.as_mut(),
-            Par::Seq,
-        );
-        let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
-        let mut shapes = eig.U().to_owned();
-        faer::linalg::triangular_solve::solve_upper_triangular_in_place(
-            l.transpose(),
-            shapes.as_mut(),
-            Par::Seq,
-        );
-        let omega2: Vec<f64> = (0..shapes.ncols()).map(|r| eig.S()[r]).collect();
-        if omega2.iter().any(|v| !v.is_finite()) {
-            return None;
-        }
+        let (omega2, shapes) = pencil_eigen(k, &m)?;
         let at_dofs = &self.rows * &shapes;
         let nc = at_dofs.nrows() - 1;
         let coeff = (0..nc)
@@ -272,8 +248,8 @@ fn shifted_cholesky(fe: &crate::model::FeModel) -> Result<ShiftedCholesky, FitEr
     ShiftedCholesky::new(k, m, -1e-8 * scale.max_ratio).map_err(|e| eig_err(e.to_string()))
 }
 
-/// M x for a sparse M.
-fn mass_times(m: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
+/// S x for a sparse S.
+fn sparse_times(m: &SparseMatrix, x: MatRef<'_, f64>) -> Mat<f64> {
     let mut y = Mat::<f64>::zeros(m.nrows(), x.ncols());
     sparse_dense_matmul(y.as_mut(), Accum::Replace, m.as_ref(), x, 1.0, Par::Seq);
     y
@@ -287,7 +263,7 @@ fn rayleigh_ritz(fe: &crate::model::FeModel, x: &mut Mat<f64>, count: usize) -> 
     if x.ncols() < count {
         return None;
     }
-    let mx = mass_times(&fe.mass, x.as_ref());
+    let mx = sparse_times(&fe.mass, x.as_ref());
     for c in 0..x.ncols() {
         let norm = (0..x.nrows()).map(|i| x[(i, c)] * mx[(i, c)]).sum::<f64>();
         if !(norm > 0.0 && norm.is_finite()) {
@@ -296,42 +272,11 @@ fn rayleigh_ritz(fe: &crate::model::FeModel, x: &mut Mat<f64>, count: usize) -> 
         let s = 1.0 / norm.sqrt();
         x.col_mut(c).iter_mut().for_each(|v| *v *= s);
     }
-    let kx = {
-        let mut y = Mat::<f64>::zeros(x.nrows(), x.ncols());
-        let k = &fe.stiffness;
-        sparse_dense_matmul(
-            y.as_mut(),
-            Accum::Replace,
-            k.as_ref(),
-            x.as_ref(),
-            1.0,
-            Par::Seq,
-        );
-        y
-    };
-    let kr = symmetrise(x.transpose() * &kx);
-    let mr = symmetrise(x.transpose() * mass_times(&fe.mass, x.as_ref()));
-    let l = mr.llt(Side::Lower).ok()?.L().to_owned();
-    let mut c = kr;
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-        l.as_ref(),
-        c.as_mut(),
-        Par::Seq,
-    );
-    let mut c = c.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(
-        l.as_ref(),
-        c.as_mut(),
-        Par::Seq,
-    );
-    let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
-    let mut y = eig.U().subcols(0, count).to_owned();
-    faer::linalg::triangular_solve::solve_upper_triangular_in_place(
-        l.transpose(),
-        y.as_mut(),
-        Par::Seq,
-    );
-    let phi = &*x * &y;
+    let kr = symmetrise(x.transpose() * sparse_times(&fe.stiffness, x.as_ref()));
+    let mr = symmetrise(x.transpose() * sparse_times(&fe.mass, x.as_ref()));
+    let (_, shapes) = pencil_eigen(kr, &mr)?;
+    let y = shapes.subcols(0, count);
+    let phi = &*x * y;
     let finite = phi.col_iter().all(|c| c.iter().all(|v| v.is_finite()));
     finite.then_some(phi)
 }
@@ -371,6 +316,29 @@ fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
     symmetrise(out)
 }
 
+/// Eigenpairs of the dense symmetric pencil K ψ = λ M ψ: Cholesky M = LLᵀ,
+/// the symmetric C = L⁻¹KL⁻ᵀ, ψ = L⁻ᵀ(eigenvectors of C): ascending λ,
+/// M-orthonormal ψ. `None` if M is not positive definite or a λ is not
+/// finite.
+fn pencil_eigen(k: Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
+    use faer::linalg::triangular_solve::{
+        solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+    };
+    let l = m.llt(Side::Lower).ok()?.L().to_owned();
+    let mut x = k;
+    solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
+    let mut c = x.transpose().to_owned();
+    solve_lower_triangular_in_place(l.as_ref(), c.as_mut(), Par::Seq);
+    let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
+    let mut shapes = eig.U().to_owned();
+    solve_upper_triangular_in_place(l.transpose(), shapes.as_mut(), Par::Seq);
+    let lambda: Vec<f64> = (0..shapes.ncols()).map(|r| eig.S()[r]).collect();
+    lambda
+        .iter()
+        .all(|v| v.is_finite())
+        .then_some((lambda, shapes))
+}
+
 /// (A + Aᵀ)/2: a projected symmetric matrix, symmetric to rounding.
 fn symmetrise(a: Mat<f64>) -> Mat<f64> {
     Mat::from_fn(a.nrows(), a.ncols(), |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
@@ -385,7 +353,7 @@ fn ritz_basis(
 ) -> Result<Mat<f64>, FitError> {
     let n = m.nrows();
     let eig_err = |e: String| FitError::Eigen(e);
-    let mass = |x: MatRef<'_, f64>| mass_times(m, x);
+    let mass = |x: MatRef<'_, f64>| sparse_times(m, x);
     // x ← x − Φ(ΦᵀMx): M-orthogonal to the computed modes.
     let deflate = |x: &mut Mat<f64>| {
         let c = phi.transpose() * mass(x.as_ref());

@@ -32,40 +32,72 @@ pub fn central_difference_error<F: Fn(&[f64]) -> Vec<f64>>(
     (err, norm)
 }
 
+/// The soft-sprung beam of [`beam`], its reduced model anchored at p̄ = 0
+/// and solved at a point away from it, with modal damping.
+struct BeamPoint {
+    data: frfup::updating::fullband::data::TestData,
+    mask: Mask,
+    form: DampingForm,
+    red: ReducedModel,
+    x0: [f64; 5],
+    modes: frfup::updating::fullband::reduced::ReducedModes,
+    pred: Vec<Vec<faer::c64>>,
+}
+
+impl BeamPoint {
+    fn new() -> BeamPoint {
+        let (deck, data) = beam();
+        let names = model::parameter_names(&deck);
+        let mask = Mask::all(&data);
+        let form = DampingForm::Modal;
+        let red = ReducedModel::new(&deck, &names, &[0.0; 4], &data).unwrap();
+        let x0 = [0.03, -0.02, 0.05, 0.1, 0.02f64.ln()];
+        let modes = red.solve(&x0[..4]).unwrap();
+        let pred = fit::predict(&modes.model, form.damping(&x0[4..]), &data, &mask);
+        BeamPoint {
+            data,
+            mask,
+            form,
+            red,
+            x0,
+            modes,
+            pred,
+        }
+    }
+
+    fn point(&self) -> Point<'_> {
+        Point {
+            model: &self.red,
+            modes: &self.modes,
+            form: self.form,
+            damping: &self.x0[4..],
+            pred: &self.pred,
+        }
+    }
+}
+
 /// The analytic columns against central differences of the reduced
 /// model (away from its anchor, so the expansion is exercised), and the
 /// damping column.
 #[test]
 fn analytic_columns_match_central_differences() {
-    let (deck, data) = beam();
-    let names = model::parameter_names(&deck);
-    let mask = Mask::all(&data);
-    let form = DampingForm::Modal;
-    let red = ReducedModel::new(&deck, &names, &[0.0; 4], &data).unwrap();
-    let x0 = [0.03, -0.02, 0.05, 0.1, 0.02f64.ln()];
+    let b = BeamPoint::new();
+    let (data, mask, form, red, x0) = (&b.data, &b.mask, b.form, &b.red, b.x0);
     let r_at = |x: &[f64]| {
         let modes = red.solve(&x[..4]).unwrap();
-        let pred = fit::predict(&modes.model, form.damping(&x[4..]), &data, &mask);
-        fit::residuals(&pred, &data, &mask)
+        let pred = fit::predict(&modes.model, form.damping(&x[4..]), data, mask);
+        fit::residuals(&pred, data, mask)
     };
-    let modes = red.solve(&x0[..4]).unwrap();
-    let pred = fit::predict(&modes.model, form.damping(&x0[4..]), &data, &mask);
-    let pt = Point {
-        model: &red,
-        modes: &modes,
-        form,
-        damping: &x0[4..],
-        pred: &pred,
-    };
-    let jac = columns(&pt, &data, &mask, &[true; 5], 0, None);
+    let pt = b.point();
+    let jac = columns(&pt, data, mask, &[true; 5], 0, None);
     assert_eq!(jac.nrows(), r_at(&x0).len());
     // Written into the storage of an earlier Jacobian (stale values in
     // it, one column held so that its zeros must come from the reset):
     // the same matrix, bit for bit.
     let stale = faer::Mat::<f64>::from_fn(jac.nrows(), jac.ncols(), |i, j| (i + 7 * j) as f64);
     let held = [true, false, true, true, true];
-    let again = columns(&pt, &data, &mask, &held, 0, Some(stale));
-    let fresh = columns(&pt, &data, &mask, &held, 0, None);
+    let again = columns(&pt, data, mask, &held, 0, Some(stale));
+    let fresh = columns(&pt, data, mask, &held, 0, None);
     assert!((0..jac.nrows()).all(|i| again[(i, 1)] == 0.0));
     assert!((0..jac.nrows())
         .all(|i| (0..5).all(|j| again[(i, j)].to_bits() == fresh[(i, j)].to_bits())));
@@ -86,27 +118,14 @@ fn analytic_columns_match_central_differences() {
 /// same matrix, bit for bit (the demo's bytes do not depend on the pool).
 #[test]
 fn the_same_columns_on_one_two_and_three_threads() {
-    let (deck, data) = beam();
-    let names = model::parameter_names(&deck);
-    let mask = Mask::all(&data);
-    let form = DampingForm::Modal;
-    let red = ReducedModel::new(&deck, &names, &[0.0; 4], &data).unwrap();
-    let x0 = [0.03, -0.02, 0.05, 0.1, 0.02f64.ln()];
-    let modes = red.solve(&x0[..4]).unwrap();
-    let pred = fit::predict(&modes.model, form.damping(&x0[4..]), &data, &mask);
-    let pt = Point {
-        model: &red,
-        modes: &modes,
-        form,
-        damping: &x0[4..],
-        pred: &pred,
-    };
+    let b = BeamPoint::new();
+    let (pt, data, mask) = (b.point(), &b.data, &b.mask);
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap();
-        pool.install(|| columns(&pt, &data, &mask, &[true; 5], 0, None))
+        pool.install(|| columns(&pt, data, mask, &[true; 5], 0, None))
     };
     let one = on(1);
     for threads in [2, 3] {
