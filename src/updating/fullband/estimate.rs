@@ -44,6 +44,7 @@ use super::prior::ParameterPrior;
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
 use crate::model::{self, Damping, ParameterValues};
+use crate::updating::serep::dot;
 
 /// A parameter whose standard deviation exceeds this is not identified.
 pub const UNIDENTIFIED_SD: f64 = 0.5;
@@ -206,7 +207,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     let parameters = (0..np)
         .map(|j| {
             let (v, mut sd, free) = (second.out.x[j], second.sd[j], second.free[j]);
-            let mirrored = first.mirror.iter().any(|d| in_direction(d, j));
+            let mirrored = first.mirror.iter().any(|(d, _)| in_direction(d, j));
             if mirrored && free {
                 // Either value or its mirror's: half their distance.
                 sd = sd.max(first.mirror_spread.get(j).copied().unwrap_or(0.0));
@@ -234,7 +235,7 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
             .seen
             .missing
             .iter()
-            .chain(&first.mirror_sd)
+            .chain(&first.mirror)
             .map(|(v, s)| (named_direction(&names, v), *s))
             .collect(),
         model_solutions: obj.solutions,
@@ -302,11 +303,9 @@ struct FirstPass {
     /// Parameters held at the deck's value.
     unseen: Vec<usize>,
     /// Directions (unit, over the parameters) that mix several parameters,
-    /// unseen at the deck or here: candidates for [`mirror_test`], then
-    /// those whose mirror fits as well.
-    mirror: Vec<Vec<f64>>,
-    /// The same directions with their standard deviation (at the deck).
-    mirror_sd: Vec<(Vec<f64>, f64)>,
+    /// unseen at the deck or here, with their standard deviation there:
+    /// candidates for [`mirror_test`], then those whose mirror fits as well.
+    mirror: Vec<(Vec<f64>, f64)>,
     /// Half the distance between this optimum and its mirror's, per
     /// parameter, once [`mirror_test`] found them alike (else empty).
     mirror_spread: Vec<f64>,
@@ -351,7 +350,7 @@ fn first_pass(
         .iter()
         .chain(at_deck.iter().flat_map(|u| u.missing.iter()))
         .map(|(v, _)| v.as_slice());
-    let (mut unseen, mirror) = unseen_subspace(directions, &without_prior);
+    let (mut unseen, mixed_directions) = unseen_subspace(directions, &without_prior);
     let at_deck_sd = at_deck
         .as_ref()
         .map(|u| u.missing.clone())
@@ -360,7 +359,7 @@ fn first_pass(
     // A parameter above its limit at either point that no direction
     // accounts for (its variance spread over several directions, each seen
     // a little) is held too.
-    let mixed = |j: usize| mirror.iter().any(|v| in_direction(v, j));
+    let mixed = |j: usize| mixed_directions.iter().any(|v| in_direction(v, j));
     for j in 0..np {
         let limit = identification_limit(&obj.priors[j]);
         let seen_both = seen.sd_data[j] <= limit && at_deck[j] <= limit;
@@ -374,15 +373,15 @@ fn first_pass(
         // Report the larger of the two: the one that decided.
         seen.sd_data[j] = seen.sd_data[j].max(at_deck[j]);
     }
-    let mirror_sd = mirror
-        .iter()
+    let mirror = mixed_directions
+        .into_iter()
         .map(|v| {
             let sd = at_deck_sd
                 .iter()
                 .chain(&seen.missing)
-                .filter(|(u, _)| v.iter().zip(u).map(|(a, b)| a * b).sum::<f64>().abs() > 0.7)
+                .filter(|(u, _)| dot(&v, u).abs() > 0.7)
                 .fold(0.0f64, |m, (_, s)| m.max(*s));
-            (v.clone(), sd)
+            (v, sd)
         })
         .collect();
     Ok(FirstPass {
@@ -390,7 +389,6 @@ fn first_pass(
         seen,
         unseen,
         mirror,
-        mirror_sd,
         mirror_spread: Vec::new(),
     })
 }
@@ -417,8 +415,8 @@ fn mirror_test(
     j0: f64,
 ) -> FirstPass {
     let mut x = first.out.x.clone();
-    for v in &first.mirror {
-        let along: f64 = v.iter().zip(&x).map(|(a, b)| a * b).sum();
+    for (v, _) in &first.mirror {
+        let along = dot(v, &x);
         for (j, vj) in v.iter().enumerate() {
             x[j] = (x[j] - 2.0 * along * vj).clamp(lo[j], hi[j]);
         }
@@ -433,15 +431,15 @@ fn mirror_test(
     let ((c1, n), (c2, _)) = (data_cost(&first), data_cost(&other));
     let misfit = (c1.min(c2) / (n.max(1) as f64 * j0)).max(1.0);
     let ambiguous = (c1 - c2).abs() < AMBIGUITY * j0 * misfit;
-    let (mirror, mirror_sd) = (first.mirror.clone(), first.mirror_sd.clone());
+    let mirror = first.mirror.clone();
     let spread: Vec<f64> = (0..obj.np())
         .map(|j| 0.5 * (first.out.x[j] - other.out.x[j]).abs())
         .collect();
     let mut best = if c2 < c1 { other } else { first };
-    (best.mirror, best.mirror_sd, best.mirror_spread) = if ambiguous {
-        (mirror, mirror_sd, spread)
+    (best.mirror, best.mirror_spread) = if ambiguous {
+        (mirror, spread)
     } else {
-        (Vec::new(), Vec::new(), Vec::new())
+        (Vec::new(), Vec::new())
     };
     best
 }
