@@ -11,13 +11,13 @@
 //! are the rows of one design matrix shared by all FRFs (the poles are
 //! common), so one QR factorisation solves every FRF.
 
-use faer::linalg::solvers::Solve;
-use faer::{c64, Mat, Side};
+use faer::{c64, Mat};
 
 use crate::solvers::dense::{product, thin_svd};
 
 use super::prepare::Prepared;
 use super::select::{Picked, SelectOptions};
+use super::tall::{fit_lines, LineFit};
 use super::{refine, split, IdentifyError};
 
 /// Upper and lower residual of one FRF (receptance terms).
@@ -145,71 +145,6 @@ pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyErro
     }
 }
 
-/// Largest condition number of the column-scaled design for which
-/// [`solve_tall`] uses the normal equations. Their relative error, of order
-/// κ²ε (2e-6 at κ = 1e5), shrinks by about that factor with one step of
-/// refinement on the residual (the same Cholesky factor reused) down to the
-/// limit κ²ε·‖r‖/(‖A‖‖x‖) a QR solution shares when the fit leaves a
-/// residual (Björck, Numerical Methods for Least Squares Problems, 1996,
-/// §2.9).
-const NORMAL_COND: f64 = 1e5;
-
-/// [`solve`] for a tall design (the whole band: up to 10⁵ rows, tens of
-/// columns) by the normal equations of the column-scaled A, one step of
-/// correction with the residual, when A is well conditioned; by [`solve`]
-/// otherwise. Four M × N products instead of a Householder QR (a 100,000 ×
-/// 16 design: 74 ms by the SVD).
-pub(super) fn solve_tall(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
-    let n = a.ncols();
-    let scale: Vec<f64> = a.col_iter().map(|c| c.norm_l2()).collect();
-    if n == 0 || a.nrows() < 4 * n || scale.iter().any(|v| !(*v > 0.0 && v.is_finite())) {
-        return solve(a, b);
-    }
-    let mut gram = product(a.transpose(), a.as_ref());
-    for i in 0..n {
-        for j in 0..n {
-            gram[(i, j)] /= scale[i] * scale[j];
-        }
-    }
-    let Ok(eig) = gram.self_adjoint_eigen(Side::Lower) else {
-        return solve(a, b);
-    };
-    let ev: Vec<f64> = eig.S().column_vector().iter().copied().collect();
-    let (lo, hi) = ev
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
-    if !(lo > hi / (NORMAL_COND * NORMAL_COND)) {
-        return solve(a, b);
-    }
-    let Ok(llt) = gram.llt(Side::Lower) else {
-        return solve(a, b);
-    };
-    // x = D (DAᵀAD)⁻¹ D Aᵀ b, D = diag(1/scale).
-    let step = |rhs: &Mat<f64>| {
-        let mut y = product(a.transpose(), rhs.as_ref());
-        for (i, s) in scale.iter().enumerate() {
-            for j in 0..y.ncols() {
-                y[(i, j)] /= s;
-            }
-        }
-        let mut x = llt.solve(&y);
-        for (i, s) in scale.iter().enumerate() {
-            for j in 0..x.ncols() {
-                x[(i, j)] /= s;
-            }
-        }
-        x
-    };
-    let mut x = step(b);
-    let r = b - product(a.as_ref(), x.as_ref());
-    x += step(&r);
-    if x.col_iter().all(|c| c.iter().all(|v| v.is_finite())) {
-        Ok(x)
-    } else {
-        solve(a, b)
-    }
-}
-
 /// The fitted FRF at ω (the test's kind).
 pub fn evaluate(poles: &[c64], residues: &[c64], res: &Residual, omega: f64, n: i32) -> c64 {
     let s = c64::new(0.0, omega);
@@ -226,22 +161,6 @@ struct Solved {
     relative: f64,
 }
 
-/// Σ_j w_j² |residual_j(ω_k)|² per line k.
-fn line_residuals(data: &Prepared, a: &Mat<f64>, b: &Mat<f64>, x: &Mat<f64>) -> Vec<f64> {
-    let r = b - a * x;
-    let m = data.n_inputs();
-    (0..data.n_lines())
-        .map(|k| {
-            (0..r.ncols())
-                .map(|j| {
-                    data.weights[j / m].powi(2)
-                        * (r[(2 * k, j)].powi(2) + r[(2 * k + 1, j)].powi(2))
-                })
-                .sum()
-        })
-        .collect()
-}
-
 /// Significance of mode r: its largest weighted contribution over FRFs and
 /// lines ÷ the RMS of the weighted fit residual on the lines within
 /// `WINDOW` half-bandwidths of it (where a spurious pole would fit noise,
@@ -250,15 +169,15 @@ const WINDOW: f64 = 8.0;
 
 fn fit_once(data: &Prepared, poles: &[c64]) -> Result<Solved, IdentifyError> {
     let all: Vec<usize> = (0..data.n_lines()).collect();
-    let a = design(poles, &data.omega, &all, data.kind_order);
-    let b = rhs(data, &all);
-    let x = solve_tall(&a, &b)?;
-    let per_line = line_residuals(data, &a, &b, &x);
+    let LineFit { x, per_line } = fit_lines(data, poles, &all, true)?;
     let cost: f64 = per_line.iter().sum();
     let m = data.n_inputs();
     let nj = data.h.len() as f64;
-    let total: f64 = (0..b.ncols())
-        .map(|j| data.weights[j / m].powi(2) * b.col(j).squared_norm_l2())
+    let total: f64 = data
+        .h
+        .iter()
+        .enumerate()
+        .map(|(j, h)| data.weights[j / m].powi(2) * h.iter().map(|v| v.norm_sqr()).sum::<f64>())
         .sum();
     let n = data.n_lines();
     let line = (data.omega[n - 1] - data.omega[0]) / (n - 1).max(1) as f64;

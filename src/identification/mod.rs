@@ -56,6 +56,7 @@ pub mod refine;
 pub mod select;
 pub mod split;
 pub mod stabilisation;
+mod tall;
 
 use faer::c64;
 

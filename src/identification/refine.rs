@@ -27,9 +27,9 @@ use faer::linalg::solvers::Solve;
 use faer::{c64, Mat, Side};
 use rayon::prelude::*;
 
-use super::lsfd;
 use super::prepare::Prepared;
 use super::IdentifyError;
+use super::{lsfd, tall};
 use crate::solvers::dense::product;
 
 const MAX_ITERATIONS: usize = 40;
@@ -238,6 +238,5 @@ pub fn refine(data: &Prepared, poles0: &[c64]) -> Result<Vec<c64>, IdentifyError
 fn band_residues(data: &Prepared, poles: &[c64]) -> Result<Mat<f64>, IdentifyError> {
     let n = data.n_lines();
     let all: Vec<usize> = (0..n).step_by(n.div_ceil(GLOBAL_LINES).max(1)).collect();
-    let a = lsfd::design(poles, &data.omega, &all, data.kind_order);
-    lsfd::solve_tall(&a, &lsfd::rhs(data, &all))
+    Ok(tall::fit_lines(data, poles, &all, false)?.x)
 }
