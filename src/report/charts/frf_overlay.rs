@@ -128,22 +128,24 @@ fn x_range(o: &FrfOverlay) -> (f64, f64) {
 /// above 0 Hz: from the 0.5 % quantile (single deep notches and the 0 Hz line
 /// do not stretch the axis) to above the largest value, at most `max_decades`.
 fn decades(o: &FrfOverlay, ch: &FrfChannel, max_decades: i32) -> (i32, i32) {
-    crate::solvers::vector_state::clear();
-    let mut logs: Vec<f64> = ch
+    // The quantile and the largest of |v|² (the same order as log10 |v|):
+    // two logarithms instead of one per value.
+    let mut squares: Vec<f64> = ch
         .values
         .iter()
         .flat_map(|series| series.iter().zip(&o.frequencies_hz))
         .filter(|(_, f)| **f > 0.0)
-        .map(|(v, _)| v.norm())
-        .filter(|m| *m > 0.0 && m.is_finite())
-        .map(|m| m.log10())
+        .map(|(v, _)| v.norm_sqr())
+        .filter(|m2| *m2 > 0.0 && m2.is_finite())
         .collect();
-    if logs.is_empty() {
+    if squares.is_empty() {
         return (-1, 0);
     }
-    let hi = logs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let q = (logs.len() as f64 * 0.005) as usize;
-    let (_, &mut lo, _) = logs.select_nth_unstable_by(q, f64::total_cmp);
+    let top2 = squares.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let q = (squares.len() as f64 * 0.005) as usize;
+    let (_, &mut lo2, _) = squares.select_nth_unstable_by(q, f64::total_cmp);
+    crate::solvers::vector_state::clear();
+    let (hi, lo) = (0.5 * top2.log10(), 0.5 * lo2.log10());
     let top = hi.ceil() as i32;
     let top = if top as f64 - hi < 0.05 { top + 1 } else { top };
     let bottom = (lo.floor() as i32).max(top - max_decades).min(top - 1);
@@ -194,16 +196,33 @@ pub fn decimate(points: Vec<(f64, f64)>, x: (f64, f64), buckets: usize) -> Vec<(
 }
 
 fn magnitude_points(o: &FrfOverlay, values: &[Complex64], floor: f64) -> Vec<(f64, f64)> {
-    // A magnitude (hypot) and log10 per line: libm at full speed.
-    crate::solvers::vector_state::clear();
+    log_magnitudes(squared_magnitude_points(o, values), floor)
+}
+
+/// (f, |v|²) per line, NaN where v is not finite (the line breaks there).
+/// |v|² orders the lines as log10 |v| does, so a series can be reduced to
+/// its pixel extremes ([`decimate`]) before the logarithms are taken.
+fn squared_magnitude_points(o: &FrfOverlay, values: &[Complex64]) -> Vec<(f64, f64)> {
     o.frequencies_hz
         .iter()
         .zip(values)
         .map(|(&f, v)| {
-            let m = v.norm();
-            let y = if m > 0.0 && m.is_finite() {
-                m.log10().max(floor)
-            } else if m == 0.0 {
+            let finite = v.re.is_finite() && v.im.is_finite();
+            (f, if finite { v.norm_sqr() } else { f64::NAN })
+        })
+        .collect()
+}
+
+/// (f, |v|²) → (f, log10 |v|), not below `floor` (|v| = 0 at it).
+fn log_magnitudes(points: Vec<(f64, f64)>, floor: f64) -> Vec<(f64, f64)> {
+    // A log10 per point: libm at full speed.
+    crate::solvers::vector_state::clear();
+    points
+        .into_iter()
+        .map(|(f, m2)| {
+            let y = if m2 > 0.0 {
+                (0.5 * m2.log10()).max(floor)
+            } else if m2 == 0.0 {
                 floor
             } else {
                 f64::NAN
@@ -486,7 +505,10 @@ pub fn render_contact_sheet(o: &FrfOverlay) -> Result<String, ChartError> {
             let series = ch
                 .values
                 .iter()
-                .map(|vals| decimate(magnitude_points(o, vals, d0 as f64), x, buckets))
+                .map(|vals| {
+                    let reduced = decimate(squared_magnitude_points(o, vals), x, buckets);
+                    log_magnitudes(reduced, d0 as f64)
+                })
                 .collect();
             ((d0, d1), series)
         })
