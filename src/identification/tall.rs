@@ -1,20 +1,22 @@
 //! The LSFD over many lines (the whole band: up to 10⁵ lines, tens of
 //! columns) by the normal equations, accumulated over fixed chunks of lines.
 //!
-//! With A the real design of [`lsfd::design`] (2 rows per line) and B the
-//! data of [`lsfd::rhs`], D = diag(1/‖a_c‖) its column scaling:
+//! With A the real design of [`design`] (2 rows per line) and B the
+//! data of [`rhs`], D = diag(1/‖a_c‖) its column scaling:
 //!
 //!   x = D (D AᵀA D)⁻¹ D Aᵀ B,
 //!
 //! then one step of correction with the residual R = B − A x (the same
-//! Cholesky factor reused). The chunk products AᵀA, AᵀB, AᵀR are summed in
-//! chunk order, so the result does not depend on the number of threads, and
-//! no tall matrix is formed: a chunk's design is built, used and dropped
-//! (the whole-band design of a 50,000-line record is 13 MB; its allocation,
-//! the strided rows and three passes over it cost more than the
-//! arithmetic). When the scaled Gram matrix is ill-conditioned (κ above
-//! [`NORMAL_COND`]) the tall design is formed and solved by the SVD
-//! ([`lsfd::solve`]).
+//! Cholesky factor reused). A and B are held as blocks of 4,096 lines
+//! ([`CHUNK`]), built on both cores; the products AᵀA, AᵀB and AᵀR are
+//! formed per block, each on cache-sized operands, and summed in block
+//! order, so the result does not depend on the number of threads. No tall
+//! matrix is formed or read row by row (the whole-band design of a
+//! 50,000-line record is 13 MB: forming it, its residual twice and the
+//! strided per-line sums cost more than the arithmetic). The per-line
+//! residuals rebuild each block rather than keep them. When the scaled
+//! Gram matrix is ill-conditioned (κ above [`NORMAL_COND`]) the tall
+//! design is formed and solved by the SVD ([`solve`]).
 
 use faer::linalg::solvers::Solve;
 use faer::{c64, Mat, Side};
