@@ -9,7 +9,9 @@
 //! real: the modes above and below the band. With A = a + ib the model is
 //! linear and real in (a, b, U, L); the real and imaginary parts of every line
 //! are the rows of one design matrix shared by all FRFs (the poles are
-//! common), so one QR factorisation solves every FRF.
+//! common), so one factorisation solves every FRF: a thin SVD on a window
+//! of lines ([`solve`]), the normal equations over the whole band
+//! ([`super::tall`]).
 
 use faer::{c64, Mat};
 
@@ -78,7 +80,7 @@ pub(super) fn basis(poles: &[c64], omega: f64, n: i32, out: &mut Vec<c64>) {
 }
 
 /// The real design matrix (rows Re, Im of each line in `lines`).
-pub(super) fn design(poles: &[c64], omega: &[f64], lines: &[usize], n: i32) -> Mat<f64> {
+pub fn design(poles: &[c64], omega: &[f64], lines: &[usize], n: i32) -> Mat<f64> {
     let cols = 2 * poles.len() + 2;
     let mut a = Mat::<f64>::zeros(2 * lines.len(), cols);
     let mut b = Vec::with_capacity(cols);
@@ -93,7 +95,7 @@ pub(super) fn design(poles: &[c64], omega: &[f64], lines: &[usize], n: i32) -> M
 }
 
 /// The data of `lines` as real right-hand sides, one column per FRF.
-pub(super) fn rhs(data: &Prepared, lines: &[usize]) -> Mat<f64> {
+pub fn rhs(data: &Prepared, lines: &[usize]) -> Mat<f64> {
     Mat::<f64>::from_fn(2 * lines.len(), data.h.len(), |r, j| {
         let v = data.h[j][lines[r / 2]];
         if r % 2 == 0 {
@@ -108,7 +110,7 @@ pub(super) fn rhs(data: &Prepared, lines: &[usize]) -> Mat<f64> {
 /// by a thin SVD of `a` (columns scaled to unit norm), singular values below
 /// 10⁻¹² of the largest dropped, so that nearly dependent columns (residual
 /// terms over a narrow window) do not blow the residues up.
-pub(super) fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
+pub fn solve(a: &Mat<f64>, b: &Mat<f64>) -> Result<Mat<f64>, IdentifyError> {
     let scale: Vec<f64> = a
         .col_iter()
         .map(|c| {

@@ -56,7 +56,7 @@ pub mod refine;
 pub mod select;
 pub mod split;
 pub mod stabilisation;
-mod tall;
+pub mod tall;
 
 use faer::c64;
 

@@ -12,6 +12,8 @@ mod diagnosis_suspension_placement;
 mod diagnosis_verdict;
 mod fsio;
 mod identification_column;
+mod identification_prepare;
+mod identification_tall;
 mod model;
 mod model_elements_beam;
 mod report_charts;
