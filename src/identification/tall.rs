@@ -14,7 +14,7 @@
 //! matrix is formed or read row by row (the whole-band design of a
 //! 50,000-line record is 13 MB: forming it, its residual twice and the
 //! strided per-line sums cost more than the arithmetic). The per-line
-//! residuals rebuild each block rather than keep them. When the scaled
+//! residuals reuse the blocks. When the scaled
 //! Gram matrix is ill-conditioned (κ above [`NORMAL_COND`]) the tall
 //! design is formed and solved by the SVD ([`solve`]).
 
@@ -60,10 +60,8 @@ pub fn fit_lines(
         a: design(poles, &data.omega, ls, data.kind_order),
         b: rhs(data, ls),
     };
-    let x = match normal_solution(
-        &lines.par_chunks(CHUNK).map(chunk).collect::<Vec<_>>(),
-        cols,
-    ) {
+    let chunks: Vec<Chunk> = lines.par_chunks(CHUNK).map(chunk).collect();
+    let x = match normal_solution(&chunks, cols) {
         Some(x) => x,
         None => solve(
             &design(poles, &data.omega, lines, data.kind_order),
@@ -71,12 +69,9 @@ pub fn fit_lines(
         )?,
     };
     let per_line = if per_line {
-        lines
-            .par_chunks(CHUNK)
-            .flat_map_iter(|ls| {
-                let c = chunk(ls);
-                line_residuals(data, &(c.b - product(c.a.as_ref(), x.as_ref())))
-            })
+        chunks
+            .par_iter()
+            .flat_map_iter(|c| line_residuals(data, &(&c.b - product(c.a.as_ref(), x.as_ref()))))
             .collect()
     } else {
         Vec::new()
