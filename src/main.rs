@@ -365,7 +365,7 @@ fn demo(a: DemoArgs, g: &Global) -> Result<(), CommandError> {
     let result = commands::demo::run(&a.out, &mut |event| show_update_progress(&reporter, event));
     reporter.finish();
     let (outcome, report) = result?;
-    print_timings(g.verbose, &outcome);
+    print_timings(g.verbose, &outcome.timings);
     print_update_summary(&outcome);
     println!(
         "done in {:.1} s. Open {} (and report.html, the .svg charts, updated.deck in {})",
@@ -475,7 +475,7 @@ fn update(a: UpdateArgs, g: &Global) -> Result<(), CommandError> {
     let result = update::run(&cmd, &mut |event| show_update_progress(&reporter, event));
     reporter.finish();
     let outcome = result?;
-    print_timings(g.verbose, &outcome);
+    print_timings(g.verbose, &outcome.timings);
     if a.json {
         let mut v = frfup::report::output::summary_json(&outcome.result);
         v["out"] = a.out.display().to_string().into();
@@ -583,6 +583,7 @@ fn identify(a: IdentifyArgs, g: &Global) -> Result<(), CommandError> {
         strict: g.strict,
     };
     let id = with_stages(g, |stage| commands::identify::run(&cmd, stage))?;
+    print_timings(g.verbose, &id.timings);
     if !g.quiet {
         print!("{}", commands::identify::summary(&id));
         println!("wrote {}", a.out.display());
@@ -722,9 +723,9 @@ fn iteration_line(rec: &frfup::updating::IterationRecord) -> String {
     )
 }
 
-fn print_timings(verbose: bool, outcome: &update::UpdateOutcome) {
+fn print_timings(verbose: bool, timings: &[(&'static str, f64)]) {
     if verbose {
-        for (stage, s) in &outcome.timings {
+        for (stage, s) in timings {
             eprintln!("time: {stage:<32} {s:>8.3} s");
         }
     }

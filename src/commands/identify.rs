@@ -44,9 +44,11 @@ pub fn parse_band(s: &str) -> Result<(f64, f64), CommandError> {
 
 /// Identify the modes and write the folder, telling `stage` what it is doing.
 pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification, CommandError> {
+    let clock = std::time::Instant::now();
     crate::fsio::check_out_folder(&cmd.out).map_err(CommandError::input)?;
     let deck = cmd.deck.as_ref().map(|p| read_deck(p)).transpose()?;
     let (test, notes) = load_test_with_notes(&cmd.test, cmd.strict)?;
+    let read = clock.elapsed().as_secs_f64();
     let opts = IdentifyOptions {
         band_hz: cmd.band_hz,
         max_order: cmd.max_order,
@@ -57,8 +59,10 @@ pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification
         test.channels.len(),
         test.frequencies_hz.len()
     ));
-    let id = identification::identify(&test, &opts)
+    let mut id = identification::identify(&test, &opts)
         .map_err(|e| CommandError::input(format!("{}: {e}", cmd.test.display())))?;
+    id.timings.insert(0, ("read the inputs", read));
+    let clock = std::time::Instant::now();
     let mut notes: Vec<String> = notes
         .iter()
         .map(|n| format!("{}: {n}", cmd.test.display()))
@@ -98,11 +102,16 @@ pub fn run(cmd: &IdentifyCommand, stage: &dyn Fn(&str)) -> Result<Identification
         notes: &notes,
         viewer: viewer.as_ref(),
     };
+    let paired = clock.elapsed().as_secs_f64();
     stage("writing the report");
+    let clock = std::time::Instant::now();
     crate::fsio::write_folder(&cmd.out, |dir| {
         write_outputs(&report, dir).map_err(|e| std::io::Error::other(e.to_string()))
     })
     .map_err(|e| CommandError::output(&cmd.out, e))?;
+    let written = clock.elapsed().as_secs_f64();
+    id.timings.push(("pair with the deck, notes", paired));
+    id.timings.push(("write the folder", written));
     Ok(id)
 }
 

@@ -166,6 +166,9 @@ pub struct Identification {
     pub residuals: Vec<lsfd::Residual>,
     /// RMS of the weighted fit residual ÷ RMS of the weighted data.
     pub relative_residual: f64,
+    /// Wall time of each stage (name, seconds), for `--verbose`; never
+    /// written to an output file (outputs stay the same bytes run to run).
+    pub timings: Vec<(&'static str, f64)>,
 }
 
 impl Identification {
@@ -195,6 +198,12 @@ pub fn identify(
     test: &MeasuredFrfs,
     opts: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
+    let mut timings = Vec::new();
+    let mut clock = std::time::Instant::now();
+    let mut lap = |name: &'static str, timings: &mut Vec<(&'static str, f64)>| {
+        timings.push((name, clock.elapsed().as_secs_f64()));
+        clock = std::time::Instant::now();
+    };
     let data = prepare::prepare(test, opts.band_hz)?;
     let max_order = match opts.max_order {
         Some(n) if n < 4 => {
@@ -205,10 +214,14 @@ pub fn identify(
         Some(n) => n,
         None => prepare::default_max_order(&data),
     };
+    lap("prepare the FRFs", &mut timings);
     let sums = lscf::Sums::new(&data, max_order)?;
     let diagram = stabilisation::diagram(&data, &sums, &opts.stability)?;
+    lap("poles per order (diagram)", &mut timings);
     let picked = select::select(&diagram, &data, &opts.select);
+    lap("select the physical poles", &mut timings);
     let fit = lsfd::fit_modes(&data, &picked, opts.refine, &opts.select)?;
+    lap("residues, refinement (LSFD)", &mut timings);
     let mut modes: Vec<Mode> = fit
         .modes
         .into_iter()
@@ -231,11 +244,13 @@ pub fn identify(
         .collect();
     modes.sort_by(|a, b| a.frequency_hz.total_cmp(&b.frequency_hz));
     classify::mark_rigid_body(&mut modes);
+    lap("shapes and quality", &mut timings);
     Ok(Identification {
         data,
         diagram,
         modes,
         residuals: fit.residuals,
         relative_residual: fit.relative_residual,
+        timings,
     })
 }

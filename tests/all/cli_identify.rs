@@ -81,6 +81,54 @@ fn joint_modes_match_the_truth_deck() {
     );
 }
 
+/// `--verbose` gives one `time:` line per stage, the identification's own
+/// stages among them, and nothing of it reaches the output files.
+#[test]
+fn verbose_prints_the_stage_timings() {
+    let (quiet, loud) = (tmp("timings-quiet"), tmp("timings-verbose"));
+    let run = |out: &PathBuf, extra: &[&str]| {
+        let mut args = vec![
+            "identify",
+            "--quiet",
+            "--out",
+            out.to_str().unwrap(),
+            "--deck",
+        ];
+        let (campaign, deck) = (
+            fixture("diagnose/joint.uff"),
+            fixture("diagnose/joint.truth.deck"),
+        );
+        args.push(&deck);
+        args.extend_from_slice(extra);
+        args.push(&campaign);
+        let o = frfup(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    assert!(!run(&quiet, &[]).contains("time:"));
+    let stderr = run(&loud, &["--verbose"]);
+    let stages: Vec<&str> = stderr.lines().filter(|l| l.starts_with("time: ")).collect();
+    for name in [
+        "read the inputs",
+        "poles per order (diagram)",
+        "residues, refinement (LSFD)",
+        "write the folder",
+    ] {
+        assert!(
+            stages.iter().any(|l| l.contains(name)),
+            "{name} missing in {stderr}"
+        );
+    }
+    assert_eq!(stages.len(), 8, "{stderr}");
+    for file in ["modes.csv", "shapes.csv", "modes.uff", "report.html"] {
+        assert_eq!(
+            std::fs::read(quiet.join(file)).unwrap(),
+            std::fs::read(loud.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+}
+
 #[test]
 fn modes_uff_reads_back() {
     let out = identify_joint("readback");
