@@ -7,8 +7,9 @@
 //! same mass on every sensor, damping, shear deformation). Suspension
 //! springs (bungees, air springs) are hung from hard points: a free end, a
 //! corner or a junction of members; a spring along a member costs one
-//! choice. The penalty counts these choices; among tied candidates the
-//! smallest penalty wins, then the lowest validation error.
+//! choice. The penalty counts these choices, and a fitted parameter as one
+//! more ([`tie_penalty`]); among tied candidates the smallest penalty wins,
+//! then the lowest validation error.
 
 use std::collections::BTreeMap;
 
@@ -31,6 +32,16 @@ pub fn placement_penalty(h: &Hypothesis, deck: &Deck) -> usize {
         },
         _ => 0,
     }
+}
+
+/// The penalty that breaks a tie between candidates that predict the
+/// held-out lines alike: [`placement_penalty`] plus one for a fitted
+/// parameter. Of two explanations that predict alike, the one that fits
+/// nothing (shear deformation) has the larger evidence: the Occam factor
+/// of a Laplace approximation, the prior's width over the posterior's, is
+/// what a fitted parameter costs.
+pub fn tie_penalty(h: &Hypothesis, deck: &Deck) -> usize {
+    placement_penalty(h, deck) + usize::from(h.param.is_some())
 }
 
 /// Nodes where a member ends, turns or meets another (ascending).

@@ -2,8 +2,8 @@
 //! hard points from the deck's geometry, and the free choices of place a
 //! candidate makes.
 
-use frfup::diagnosis::hypotheses::prior::{hard_points, placement_penalty, tie_pick};
-use frfup::diagnosis::hypotheses::{masses, springs, Context};
+use frfup::diagnosis::hypotheses::prior::{hard_points, placement_penalty, tie_penalty, tie_pick};
+use frfup::diagnosis::hypotheses::{masses, shear, springs, Context};
 use frfup_parsers::deck::Deck;
 
 fn deck(text: &str) -> Deck {
@@ -68,4 +68,40 @@ fn the_tie_goes_to_the_fewest_choices_within_the_best_margin() {
     assert_eq!(tie_pick(&[(0, 2.0), (0, 2.1)], margin), Some(0));
     // A non-finite best keeps the order.
     assert_eq!(tie_pick(&[(1, f64::NAN), (0, 2.0)], margin), Some(0));
+}
+
+#[test]
+fn a_fitted_parameter_counts_as_one_more_choice_in_a_tie() {
+    let d = deck(L_FRAME);
+    let ctx = Context {
+        deck: &d,
+        sensor_nodes: vec![2, 4],
+        total_mass: 1.0,
+        free_free: true,
+        first_elastic_omega: 100.0,
+    };
+    // Shear deformation fits nothing and has no place to choose: 0.
+    let shear = shear::shear_deformation(&ctx);
+    assert!(!shear.is_empty());
+    for h in &shear {
+        assert!(h.param.is_none());
+        assert_eq!(tie_penalty(h, &d), 0);
+    }
+    // The sensor masses: one value, no place (1); suspension springs at
+    // hard points: one stiffness (1), one off them: 2; an added mass: a
+    // node and a value (2).
+    assert_eq!(tie_penalty(&masses::sensor_mass(&ctx)[0], &d), 1);
+    let hung = |nodes: Vec<u32>| springs::suspension(&ctx, nodes, frfup_parsers::deck::DeckDof::Z);
+    assert_eq!(tie_penalty(&hung(vec![1, 5]), &d), 1);
+    assert_eq!(tie_penalty(&hung(vec![1, 4]), &d), 2);
+    assert!(masses::added_mass(&ctx)
+        .iter()
+        .all(|h| tie_penalty(h, &d) == 2));
+    // So shear within the margin of a sensor mass that validates a little
+    // better is the one taken.
+    let ranked = [
+        (tie_penalty(&masses::sensor_mass(&ctx)[0], &d), 97.0),
+        (tie_penalty(&shear[0], &d), 97.4),
+    ];
+    assert_eq!(tie_pick(&ranked, |v| 0.03 * v), Some(1));
 }
