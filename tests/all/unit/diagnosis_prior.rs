@@ -16,6 +16,17 @@ const L_FRAME: &str = "analysis plane\n\
     node 1 0 0 0\nnode 2 0.5 0 0\nnode 3 1 0 0\nnode 4 1 0 0.5\nnode 5 1 0 1\n\
     beam 1 1 2 m s\nbeam 2 2 3 m s\nbeam 3 3 4 m s\nbeam 4 4 5 m s\n";
 
+/// The L-frame free-free, with sensors at nodes 2 and 4.
+fn l_frame_context(d: &Deck) -> Context<'_> {
+    Context {
+        deck: d,
+        sensor_nodes: vec![2, 4],
+        total_mass: 1.0,
+        free_free: true,
+        first_elastic_omega: 100.0,
+    }
+}
+
 #[test]
 fn ends_and_corners_are_hard_points_and_straight_runs_are_not() {
     assert_eq!(hard_points(&deck(L_FRAME)), vec![1, 3, 5]);
@@ -24,13 +35,7 @@ fn ends_and_corners_are_hard_points_and_straight_runs_are_not() {
 #[test]
 fn springs_along_a_member_and_a_mass_at_any_node_cost_a_choice() {
     let d = deck(L_FRAME);
-    let ctx = Context {
-        deck: &d,
-        sensor_nodes: vec![2, 4],
-        total_mass: 1.0,
-        free_free: true,
-        first_elastic_omega: 100.0,
-    };
+    let ctx = l_frame_context(&d);
     let hung = |nodes: Vec<u32>| springs::suspension(&ctx, nodes, frfup_parsers::deck::DeckDof::Z);
     assert_eq!(placement_penalty(&hung(vec![1, 5]), &d), 0);
     assert_eq!(placement_penalty(&hung(vec![1, 4]), &d), 1);
@@ -73,13 +78,7 @@ fn the_tie_goes_to_the_fewest_choices_within_the_best_margin() {
 #[test]
 fn a_fitted_parameter_counts_as_one_more_choice_in_a_tie() {
     let d = deck(L_FRAME);
-    let ctx = Context {
-        deck: &d,
-        sensor_nodes: vec![2, 4],
-        total_mass: 1.0,
-        free_free: true,
-        first_elastic_omega: 100.0,
-    };
+    let ctx = l_frame_context(&d);
     // Shear deformation fits nothing and has no place to choose: 0.
     let shear = shear::shear_deformation(&ctx);
     assert!(!shear.is_empty());
