@@ -751,13 +751,6 @@ fn check_thresholds(outcome: &update::UpdateOutcome, t: Thresholds) -> Result<()
 fn main() -> ExitCode {
     // Ctrl-C or a kill leaves no hidden temporary file or folder behind.
     frfup::fsio::remove_temporaries_on_signals();
-    // faer's own parallel kernels (the products and decompositions called
-    // without an explicit `Par`) sum in another order than its sequential
-    // ones, so a one-core machine wrote other last digits than a many-core
-    // one. Sequential there, the same bytes on any machine; the steps that
-    // gain from threads split their work themselves, into parts that do not
-    // depend on the number of threads.
-    faer::set_global_parallelism(faer::Par::Seq);
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) => {

@@ -33,12 +33,12 @@ use faer::linalg::solvers::Solve;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
-use faer::{c64, Accum, Mat, Par, Side};
+use faer::{c64, Accum, Mat, Par};
 use rayon::prelude::*;
 
 use super::prepare::Prepared;
 use super::IdentifyError;
-use crate::solvers::dense::product;
+use crate::solvers::dense::{cholesky_lower, product};
 
 /// The Toeplitz sums of every order up to `max_order`.
 #[derive(Clone, Debug)]
@@ -201,10 +201,7 @@ fn factor(
 ) -> Result<Factored, IdentifyError> {
     let (n1, nc, outputs) = (p + 1, (p + 1) * m, data.n_outputs());
     let r0 = Mat::<f64>::from_fn(n1, n1, |a, b| r[a.abs_diff(b)]);
-    let llt = r0
-        .llt(Side::Lower)
-        .map_err(|_| IdentifyError::Singular("LSCF R"))?;
-    let chol = llt.L().to_owned();
+    let chol = cholesky_lower(r0.as_ref()).ok_or(IdentifyError::Singular("LSCF R"))?;
     let mut stack = Mat::<f64>::zeros(n1 * outputs, nc);
     let mut y = Vec::with_capacity(outputs);
     for (o, w) in data.weights.iter().enumerate() {

@@ -23,14 +23,13 @@
 //! units from its LSCF value (it drifted to another mode or into noise)
 //! keeps its LSCF value.
 
-use faer::linalg::solvers::Solve;
-use faer::{c64, Mat, Side};
+use faer::{c64, Mat};
 use rayon::prelude::*;
 
 use super::prepare::Prepared;
 use super::IdentifyError;
 use super::{lsfd, tall};
-use crate::solvers::dense::product;
+use crate::solvers::dense::{cholesky_lower, cholesky_solve, product};
 
 const MAX_ITERATIONS: usize = 40;
 const WINDOW: f64 = 8.0;
@@ -132,11 +131,11 @@ pub(super) fn refine_group(
             for d in 0..np {
                 a[(d, d)] += mu * jtj[(d, d)].max(1e-12);
             }
-            let Ok(llt) = a.llt(Side::Lower) else {
+            let Some(l) = cholesky_lower(a.as_ref()) else {
                 mu *= 10.0;
                 continue;
             };
-            let step = llt.solve(-&g);
+            let step = cholesky_solve(l.as_ref(), (-&g).as_ref());
             let xt: Vec<f64> = (0..np).map(|d| x[d] + step[(d, 0)]).collect();
             if xt.chunks(2).any(|p| !(p[0] < 0.0)) {
                 mu *= 10.0;

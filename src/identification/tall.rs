@@ -18,11 +18,10 @@
 //! Gram matrix is ill-conditioned (κ above [`NORMAL_COND`]) the tall
 //! design is formed and solved by the SVD ([`solve`]).
 
-use faer::linalg::solvers::Solve;
-use faer::{c64, Mat, Side};
+use faer::{c64, Mat};
 use rayon::prelude::*;
 
-use crate::solvers::dense::product;
+use crate::solvers::dense::{cholesky_lower, cholesky_solve, product, symmetric_eigen};
 
 use super::lsfd::{design, rhs, solve};
 use super::prepare::Prepared;
@@ -121,22 +120,20 @@ fn normal_solution(chunks: &[Chunk], cols: usize) -> Option<Mat<f64>> {
             gram[(i, j)] /= scale[i] * scale[j];
         }
     }
-    let ev = gram.self_adjoint_eigen(Side::Lower).ok()?;
-    let (lo, hi) = ev
-        .S()
-        .column_vector()
+    let (values, _) = symmetric_eigen(gram.as_ref())?;
+    let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(l, h), &v| (l.min(v), h.max(v)));
     if !(lo > hi / (NORMAL_COND * NORMAL_COND)) {
         return None;
     }
-    let llt = gram.llt(Side::Lower).ok()?;
+    let l = cholesky_lower(gram.as_ref())?;
     // x = D (DAᵀAD)⁻¹ (D Aᵀ rhs), D = diag(1/scale).
     let step = |mut y: Mat<f64>| {
         for (i, s) in scale.iter().enumerate() {
             y.row_mut(i).iter_mut().for_each(|v| *v /= s);
         }
-        let mut x = llt.solve(&y);
+        let mut x = cholesky_solve(l.as_ref(), y.as_ref());
         for (i, s) in scale.iter().enumerate() {
             x.row_mut(i).iter_mut().for_each(|v| *v /= s);
         }

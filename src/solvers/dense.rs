@@ -3,10 +3,15 @@
 //! (hundreds to 10⁵ rows, tens of columns). There, handing work to a
 //! thread pool costs more than it saves: faer's pool spent a third of an
 //! identification of 10 channels × 50,000 lines waiting at its barriers
-//! (perf). faer's high-level `thin_svd` and `*` use its process-wide
-//! parallelism setting; these take none, so no caller has to set it.
+//! (perf). faer's high-level `thin_svd`, `self_adjoint_eigen`, `llt` and
+//! `*` use its process-wide parallelism setting, and its parallel kernels
+//! sum in another order than its sequential ones: results would depend on
+//! the machine's number of cores. These take none, so no caller has to set
+//! it and every machine gets the same bits.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
 use faer::linalg::matmul::matmul;
 use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors, SvdError};
 use faer::{Accum, Mat, MatRef, Par};
@@ -48,6 +53,65 @@ pub fn thin_svd(a: MatRef<'_, f64>) -> Result<ThinSvd, SvdError> {
         u,
         v,
     })
+}
+
+/// A = U diag(λ) Uᵀ of a symmetric `a` (its lower triangle is read):
+/// ascending λ, orthonormal U; `None` if the iteration fails.
+pub fn symmetric_eigen(a: MatRef<'_, f64>) -> Option<(Vec<f64>, Mat<f64>)> {
+    let n = a.nrows();
+    let mut s = faer::diag::Diag::<f64>::zeros(n);
+    let mut u = Mat::<f64>::zeros(n, n);
+    let par = Par::Seq;
+    let mut mem = MemBuffer::new(self_adjoint_evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::Yes,
+        par,
+        Default::default(),
+    ));
+    self_adjoint_evd(
+        a,
+        s.as_mut(),
+        Some(u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    Some((s.column_vector().iter().copied().collect(), u))
+}
+
+/// L of A = LLᵀ for a symmetric positive definite `a` (its lower triangle
+/// is read); `None` if A is not numerically positive definite.
+pub fn cholesky_lower(a: MatRef<'_, f64>) -> Option<Mat<f64>> {
+    let n = a.nrows();
+    let mut l = a.to_owned();
+    let par = Par::Seq;
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, par, Default::default()));
+    cholesky_in_place(
+        l.as_mut(),
+        Default::default(),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )
+    .ok()?;
+    for j in 0..n {
+        for i in 0..j {
+            l[(i, j)] = 0.0;
+        }
+    }
+    Some(l)
+}
+
+/// X = A⁻¹B for A = LLᵀ, `l` from [`cholesky_lower`]: two triangular solves.
+pub fn cholesky_solve(l: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    use faer::linalg::triangular_solve::{
+        solve_lower_triangular_in_place, solve_upper_triangular_in_place,
+    };
+    let mut x = b.to_owned();
+    solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+    solve_upper_triangular_in_place(l.transpose(), x.as_mut(), Par::Seq);
+    x
 }
 
 /// The product A·B.

@@ -27,6 +27,7 @@ use faer::{Mat, MatRef};
 
 use super::serep::{InverseMethod, SerepBasis, SerepError};
 use crate::model::{ParameterSensitivity, SparseMatrix};
+use crate::solvers::dense::product;
 
 /// Ψᵀ∂K_jΨ and Ψᵀ∂M_jΨ (N_md × N_md) of every parameter over the SEREP modes.
 #[derive(Clone, Debug)]
@@ -100,7 +101,7 @@ fn project_one(s: &SparseMatrix, rows: &[f64], nm: usize, pos: &mut [usize]) -> 
     for &r in &support {
         pos[r] = usize::MAX;
     }
-    let out = psi_s.transpose() * &y_s;
+    let out = product(psi_s.transpose(), y_s.as_ref());
     Mat::from_fn(nm, nm, |i, j| 0.5 * (out[(i, j)] + out[(j, i)]))
 }
 
@@ -203,14 +204,14 @@ pub fn frf_equations(
         let block = match method {
             InverseMethod::Svd => {
                 let dv = Mat::from_fn(nm, np, |r, j| d[r] * v[(r, j)]);
-                pm * &dv
+                product(pm.as_ref(), dv.as_ref())
             }
             InverseMethod::Perturb { .. } => {
                 let h = basis
                     .reduced_receptance(w2, method)
                     .map_err(SensitivityError::Serep)?;
-                let wmat = pinv.transpose() * &v;
-                &h * &wmat
+                let wmat = product(pinv.transpose(), v.as_ref());
+                product(h.as_ref(), wmat.as_ref())
             }
         };
         for e in 0..n_ex {

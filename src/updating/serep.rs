@@ -19,6 +19,7 @@
 use faer::{Mat, MatRef};
 
 use super::svd_solve::{truncated_pseudo_inverse, SvdSolveError};
+use crate::solvers::dense::product;
 use crate::solvers::eigen::Modes;
 
 /// Why a SEREP basis could not be formed.
@@ -164,7 +165,7 @@ impl SerepBasis {
         let psi = Mat::from_fn(shapes.nrows(), self.len(), |i, k| {
             shapes[(i, self.modes[k])]
         });
-        &psi * &self.psi_m_pinv
+        product(psi.as_ref(), self.psi_m_pinv.as_ref())
     }
 
     /// K̄ = Ψ_m⁺ᵀ Λ Ψ_m⁺ (Eq. 33), N_ex × N_ex.
@@ -186,7 +187,7 @@ impl SerepBasis {
         let p = &self.psi_m_pinv;
         let d: Vec<f64> = self.omega2.iter().map(|&l| f(l)).collect();
         let scaled = Mat::from_fn(p.nrows(), p.ncols(), |k, j| d[k] * p[(k, j)]);
-        p.transpose() * &scaled
+        product(p.transpose(), scaled.as_ref())
     }
 
     /// (λ_r − ω²)⁻¹ of the retained modes; `None` if ω² sits on an FE resonance.
@@ -208,7 +209,7 @@ impl SerepBasis {
         let d = self.modal_factors(omega2)?;
         let pm = &self.psi_m;
         let scaled = Mat::from_fn(pm.nrows(), pm.ncols(), |i, k| pm[(i, k)] * d[k]);
-        Some(&scaled * pm.transpose())
+        Some(product(scaled.as_ref(), pm.transpose()))
     }
 
     /// H̄(ω) by literally inverting Z̄(ω) with `method` (§3.3–3.4).

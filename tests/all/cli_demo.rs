@@ -197,10 +197,12 @@ fn readme_quotes_the_demo(stdout: &str) {
     }
 }
 
-/// The same bytes on one thread as on three: `frfup` runs faer's implicit
-/// kernels sequentially (their parallel variants sum in another order: the
-/// demo's finjoint_J was +0.03814 on 2 threads, +0.03813 on 1), and its own
-/// parallel steps split their work independently of the number of threads.
+/// The same bytes on one thread as on three: the dense kernels of
+/// `solvers::dense` run on the calling thread (faer's implicit ones follow
+/// its process-wide parallelism, whose parallel variants sum in another
+/// order: the demo's finjoint_J was +0.03814 on 2 threads, +0.03813 on 1),
+/// and the parallel steps split their work independently of the number of
+/// threads.
 #[test]
 fn the_demo_writes_the_same_bytes_on_one_and_on_three_threads() {
     // Folders' names of one length: files quote their inputs' paths in

@@ -27,6 +27,7 @@ use faer::{Accum, Conj, Mat, MatMut, MatRef, Par, Side};
 
 use super::{EigenError, EigenTuning};
 use crate::model::SparseMatrix;
+use crate::solvers::dense::product;
 use crate::solvers::nested_dissection;
 use crate::solvers::sparse_ops::{par, par_iter, PairPattern, RowMatrix};
 
@@ -515,7 +516,7 @@ pub fn cholesky_qr2(mut z: MatMut<'_, f64>, par: Par) -> Option<Mat<f64>> {
         let mut q = Mat::<f64>::zeros(z.nrows(), b);
         matmul(q.as_mut(), Accum::Replace, z.rb(), r_inv.as_ref(), 1.0, par);
         z.copy_from(&q);
-        r_total = &r * &r_total;
+        r_total = product(r.as_ref(), r_total.as_ref());
     }
     Some(r_total)
 }

@@ -474,11 +474,11 @@ fn unseen_subspace<'a>(
         }
     }
     let (mut held, mut mixed) = (Vec::new(), Vec::new());
-    let Ok(eig) = gram.self_adjoint_eigen(faer::Side::Lower) else {
+    let Some((values, vectors)) = crate::solvers::dense::symmetric_eigen(gram.as_ref()) else {
         return (held, mixed);
     };
-    for k in (0..np).rev().filter(|&k| eig.S()[k] > 0.5) {
-        let v: Vec<f64> = (0..np).map(|j| eig.U()[(j, k)]).collect();
+    for k in (0..np).rev().filter(|&k| values[k] > 0.5) {
+        let v: Vec<f64> = (0..np).map(|j| vectors[(j, k)]).collect();
         let (jmax, vmax) =
             v.iter().enumerate().fold(
                 (0, 0.0f64),

@@ -36,6 +36,7 @@ type Split = (Mat<f64>, Mat<f64>);
 use super::data::TestData;
 use super::fit::{self, DampingForm, Mask};
 use super::reduced::{ReducedModel, ReducedModes};
+use crate::solvers::dense::product;
 
 /// What [`columns`] differentiates: the reduced model and its solution at
 /// the point, the damping, and the model FRFs there.
@@ -252,7 +253,7 @@ fn parameter_block(pt: &Point, j: usize, nl: usize) -> Mat<f64> {
             (p[(s, r)] - lam[r] * q[(s, r)]) / gap
         }
     });
-    let db = b * &e;
+    let db = product(b, e.as_ref());
     let mut block = Mat::<f64>::zeros(2 * nl + 3, nc);
     for c in 0..nc {
         for r in 0..m {

@@ -12,7 +12,9 @@
 //! never rises.
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, MatRef, Par, Side};
+use faer::{Accum, Mat, MatRef, Par};
+
+use crate::solvers::dense::{cholesky_lower, cholesky_solve};
 
 /// A least-squares problem: residuals r(x) and their Jacobian.
 pub trait LeastSquares {
@@ -203,17 +205,20 @@ pub fn normal_equations(jac: MatRef<'_, f64>, r: &[f64], idx: &[usize]) -> (Mat<
 /// Solve A x = b for a symmetric positive definite A (Cholesky); `None` if
 /// A is not numerically positive definite or the solution is not finite.
 pub fn solve_spd(a: MatRef<'_, f64>, b: &[f64]) -> Option<Vec<f64>> {
-    let llt = a.llt(Side::Lower).ok()?;
+    let l = cholesky_lower(a)?;
     let rhs = Mat::from_fn(b.len(), 1, |i, _| b[i]);
-    let x = faer::linalg::solvers::Solve::solve(&llt, rhs.as_ref());
+    let x = cholesky_solve(l.as_ref(), rhs.as_ref());
     let x: Vec<f64> = (0..b.len()).map(|i| x[(i, 0)]).collect();
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// The inverse of a symmetric positive definite matrix, if it has one.
 pub fn inverse_spd(a: MatRef<'_, f64>) -> Option<Mat<f64>> {
-    let llt = a.llt(Side::Lower).ok()?;
-    let inv = faer::linalg::solvers::DenseSolveCore::inverse(&llt);
+    let l = cholesky_lower(a)?;
+    let inv = cholesky_solve(
+        l.as_ref(),
+        Mat::<f64>::identity(a.nrows(), a.nrows()).as_ref(),
+    );
     (0..inv.nrows())
         .all(|i| (0..inv.ncols()).all(|j| inv[(i, j)].is_finite()))
         .then_some(inv)

@@ -22,13 +22,14 @@
 
 use faer::linalg::matmul::matmul;
 use faer::sparse::linalg::matmul::sparse_dense_matmul;
-use faer::{Accum, Mat, MatRef, Par, Side};
+use faer::{Accum, Mat, MatRef, Par};
 use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
 use super::fit::{self, ModalModel};
 use super::FitError;
 use crate::model::{self, ParameterValues, SparseMatrix};
+use crate::solvers::dense::{cholesky_lower, product, symmetric_eigen};
 use crate::solvers::eigen::{self, lanczos::ShiftedCholesky};
 
 /// The reduced pencil and its derivatives at one anchor.
@@ -110,7 +111,7 @@ impl ReducedModel {
         }
         let place = fit::placement(&fe, data)?;
         let chol = shifted_cholesky(&fe)?;
-        let ritz = &self.basis * &at_p.shapes;
+        let ritz = product(self.basis.as_ref(), at_p.shapes.as_ref());
         let mut x = chol.solve(sparse_times(&fe.mass, ritz.as_ref()).as_ref());
         let Some(phi) = rayleigh_ritz(&fe, &mut x, self.band_modes) else {
             return ReducedModel::new(deck, names, p, data);
@@ -200,7 +201,7 @@ impl ReducedModel {
             }
         }
         let (omega2, shapes) = pencil_eigen(k, &m)?;
-        let at_dofs = &self.rows * &shapes;
+        let at_dofs = product(self.rows.as_ref(), shapes.as_ref());
         let nc = at_dofs.nrows() - 1;
         let coeff = (0..nc)
             .map(|c| {
@@ -272,11 +273,17 @@ fn rayleigh_ritz(fe: &crate::model::FeModel, x: &mut Mat<f64>, count: usize) -> 
         let s = 1.0 / norm.sqrt();
         x.col_mut(c).iter_mut().for_each(|v| *v *= s);
     }
-    let kr = symmetrise(x.transpose() * sparse_times(&fe.stiffness, x.as_ref()));
-    let mr = symmetrise(x.transpose() * sparse_times(&fe.mass, x.as_ref()));
+    let kr = symmetrise(product(
+        x.transpose(),
+        sparse_times(&fe.stiffness, x.as_ref()).as_ref(),
+    ));
+    let mr = symmetrise(product(
+        x.transpose(),
+        sparse_times(&fe.mass, x.as_ref()).as_ref(),
+    ));
     let (_, shapes) = pencil_eigen(kr, &mr)?;
     let y = shapes.subcols(0, count);
-    let phi = &*x * y;
+    let phi = product(x.as_ref(), y);
     let finite = phi.col_iter().all(|c| c.iter().all(|v| v.is_finite()));
     finite.then_some(phi)
 }
@@ -324,15 +331,13 @@ fn pencil_eigen(k: Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     use faer::linalg::triangular_solve::{
         solve_lower_triangular_in_place, solve_upper_triangular_in_place,
     };
-    let l = m.llt(Side::Lower).ok()?.L().to_owned();
+    let l = cholesky_lower(m.as_ref())?;
     let mut x = k;
     solve_lower_triangular_in_place(l.as_ref(), x.as_mut(), Par::Seq);
     let mut c = x.transpose().to_owned();
     solve_lower_triangular_in_place(l.as_ref(), c.as_mut(), Par::Seq);
-    let eig = symmetrise(c).self_adjoint_eigen(Side::Lower).ok()?;
-    let mut shapes = eig.U().to_owned();
+    let (lambda, mut shapes) = symmetric_eigen(symmetrise(c).as_ref())?;
     solve_upper_triangular_in_place(l.transpose(), shapes.as_mut(), Par::Seq);
-    let lambda: Vec<f64> = (0..shapes.ncols()).map(|r| eig.S()[r]).collect();
     lambda
         .iter()
         .all(|v| v.is_finite())
@@ -356,8 +361,8 @@ fn ritz_basis(
     let mass = |x: MatRef<'_, f64>| sparse_times(m, x);
     // x ← x − Φ(ΦᵀMx): M-orthogonal to the computed modes.
     let deflate = |x: &mut Mat<f64>| {
-        let c = phi.transpose() * mass(x.as_ref());
-        *x -= phi * &c;
+        let c = product(phi.transpose(), mass(x.as_ref()).as_ref());
+        *x -= product(phi.as_ref(), c.as_ref());
     };
     let mut dofs = vec![place.input];
     dofs.extend(place.outputs.iter().copied());
@@ -367,11 +372,11 @@ fn ritz_basis(
     }
     // P e = e − MΦ(Φᵀe): the load the left-out modes carry.
     let mphi = mass(phi.as_ref());
-    e -= &mphi * (phi.transpose() * &e);
+    e -= product(mphi.as_ref(), product(phi.transpose(), e.as_ref()).as_ref());
     let mut x = chol.solve(e.as_ref());
     // Directions of S whose M-norm after deflation is below 1e-10 of the
     // largest before it lie in the span of Φ (to rounding): dropped.
-    let before = symmetrise(x.transpose() * mass(x.as_ref()));
+    let before = symmetrise(product(x.transpose(), mass(x.as_ref()).as_ref()));
     let norm0 = (0..before.nrows()).fold(0.0f64, |a, i| a.max(before[(i, i)]));
     deflate(&mut x);
     let mut second = chol.solve(mass(x.as_ref().subcols(0, 1)).as_ref());
@@ -387,17 +392,16 @@ fn ritz_basis(
     // directions with D below 1e-10 of the largest M-norm before deflation
     // (repeated DOFs, e.g. a driving point, or a static response the modes
     // already span).
-    let g = symmetrise(s.transpose() * mass(s.as_ref()));
-    let eig = g
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| eig_err(format!("{e:?}")))?;
-    let d: Vec<f64> = (0..g.nrows()).map(|i| eig.S()[i]).collect();
+    let g = symmetrise(product(s.transpose(), mass(s.as_ref()).as_ref()));
+    let (d, u) = symmetric_eigen(g.as_ref()).ok_or_else(|| {
+        eig_err("the static block's Gram matrix has no eigen decomposition".into())
+    })?;
     let top = d.iter().fold(norm0, |a, v| a.max(*v));
     let keep: Vec<usize> = (0..d.len()).filter(|&i| d[i] > 1e-10 * top).collect();
     let v = Mat::from_fn(g.nrows(), keep.len(), |i, k| {
-        eig.U()[(i, keep[k])] / d[keep[k]].sqrt()
+        u[(i, keep[k])] / d[keep[k]].sqrt()
     });
-    let mut s = &s * &v;
+    let mut s = product(s.as_ref(), v.as_ref());
     deflate(&mut s);
     Ok(Mat::from_fn(n, phi.ncols() + s.ncols(), |i, c| {
         if c < phi.ncols() {

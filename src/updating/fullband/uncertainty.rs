@@ -14,11 +14,12 @@
 //! 1/√λ exceeds [`UNIDENTIFIED_SD`] are the directions the data miss.
 
 use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, Par, Side};
+use faer::{Accum, Mat, Par};
 
 use super::estimate::UNIDENTIFIED_SD;
 use super::lm::{self, LeastSquares, LmOutcome};
 use super::objective::Objective;
+use crate::solvers::dense::{product, symmetric_eigen};
 
 /// Standard deviations at a point and the unseen directions.
 pub struct Uncertainty {
@@ -86,7 +87,7 @@ pub fn uncertainty(obj: &mut Objective, out: &LmOutcome, free: &[bool], j0: f64)
             1.0,
             Par::Seq,
         );
-        let cov = &hinv * &b * &hinv;
+        let cov = product(product(hinv.as_ref(), b.as_ref()).as_ref(), hinv.as_ref());
         for (a, &ia) in idx.iter().enumerate() {
             if ia < np {
                 u.sd[ia] = cov[(a, a)].max(0.0).sqrt();
@@ -153,11 +154,9 @@ fn data_information(
     let info = Mat::from_fn(ip.len(), ip.len(), |a, c| {
         0.5 * (info[(a, c)] + info[(c, a)]) / s2
     });
-    let Ok(eig) = info.self_adjoint_eigen(Side::Lower) else {
+    let Some((lam, vecs)) = symmetric_eigen(info.as_ref()) else {
         return;
     };
-    let lam: Vec<f64> = (0..ip.len()).map(|k| eig.S()[k]).collect();
-    let vecs = eig.U();
     // Eigenvalues below 1e-14 of the largest are rounding: taken at that
     // floor, so that a parameter's variance is ∞ only when all information
     // is zero, and a direction the data miss (≈ 1/floor) does not leak into
