@@ -239,7 +239,7 @@ const CLEARLY_BELOW: f64 = 0.5;
 /// in its window takes up part of the residual it is measured against, and
 /// with all the weak ones dropped together a real mode just under the
 /// threshold took its neighbour down with it (a real record's 22.2 Hz mode
-/// fell from 7.1 to 3.9 when seven noise poles and the 41.9 Hz mode, at
+/// fell from 7.1 to 3.9 when seventeen noise poles and the 41.9 Hz mode, at
 /// 3.99, left at once).
 fn eliminate(significance: &[f64], threshold: f64) -> Option<Vec<bool>> {
     let weakest = significance
