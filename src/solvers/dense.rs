@@ -14,7 +14,8 @@ use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_s
 use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
 use faer::linalg::matmul::matmul;
 use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors, SvdError};
-use faer::{Accum, Mat, MatRef, Par};
+use faer::reborrow::ReborrowMut;
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// A = U diag(s) Vᵀ with min(M, N) columns in U and V, s non-increasing.
 pub struct ThinSvd {
@@ -83,24 +84,38 @@ pub fn symmetric_eigen(a: MatRef<'_, f64>) -> Option<(Vec<f64>, Mat<f64>)> {
 /// L of A = LLᵀ for a symmetric positive definite `a` (its lower triangle
 /// is read); `None` if A is not numerically positive definite.
 pub fn cholesky_lower(a: MatRef<'_, f64>) -> Option<Mat<f64>> {
-    let n = a.nrows();
     let mut l = a.to_owned();
     let par = Par::Seq;
-    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(n, par, Default::default()));
+    let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+        a.nrows(),
+        par,
+        Default::default(),
+    ));
+    cholesky_lower_in_place(l.as_mut(), par, MemStack::new(&mut mem))?;
+    Some(l)
+}
+
+/// A (symmetric positive definite, lower triangle read) overwritten by L of
+/// A = LLᵀ, its strict upper triangle zeroed (faer's in-place Cholesky
+/// writes into it too); `stack` from `cholesky_in_place_scratch`. `None`
+/// if A is not numerically positive definite.
+pub fn cholesky_lower_in_place(
+    mut a: MatMut<'_, f64>,
+    par: Par,
+    stack: &mut MemStack,
+) -> Option<()> {
     cholesky_in_place(
-        l.as_mut(),
+        a.rb_mut(),
         Default::default(),
         par,
-        MemStack::new(&mut mem),
+        stack,
         Default::default(),
     )
     .ok()?;
-    for j in 0..n {
-        for i in 0..j {
-            l[(i, j)] = 0.0;
-        }
+    for j in 1..a.ncols() {
+        a.rb_mut().col_mut(j).subrows_mut(0, j).fill(0.0);
     }
-    Some(l)
+    Some(())
 }
 
 /// X = A⁻¹B for A = LLᵀ, `l` from [`cholesky_lower`]: two triangular solves.

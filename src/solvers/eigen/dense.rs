@@ -31,7 +31,7 @@
 //! most a quarter are wanted), and y = Q z for the wanted columns only.
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
-use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::cholesky::llt::factor::cholesky_in_place_scratch;
 use faer::linalg::evd::tridiag::{tridiag_in_place, tridiag_in_place_scratch};
 use faer::linalg::evd::{
     self_adjoint_evd_scratch, tridiagonal_self_adjoint_evd, ComputeEigenvectors,
@@ -53,6 +53,7 @@ use faer::{Accum, Col, Conj, Mat, MatMut, MatRef, Par};
 use super::{tridiagonal, EigenError};
 use crate::model::SparseMatrix;
 use crate::solvers::bandwidth;
+use crate::solvers::dense::cholesky_lower_in_place;
 use crate::solvers::sparse_ops::{par, PairPattern};
 
 /// Rows per block of the envelope steps: enough for efficient matrix
@@ -299,18 +300,7 @@ pub fn envelope_cholesky(
                 par,
             );
         }
-        cholesky_in_place(
-            diagonal.rb_mut(),
-            Default::default(),
-            par,
-            MemStack::new(&mut mem),
-            Default::default(),
-        )
-        .ok()?;
-        // faer's in-place Cholesky also writes into the strict upper triangle.
-        for j in 1..h {
-            diagonal.rb_mut().col_mut(j).subrows_mut(0, j).fill(0.0);
-        }
+        cholesky_lower_in_place(diagonal.rb_mut(), par, MemStack::new(&mut mem))?;
     }
     Some(l)
 }

@@ -44,6 +44,7 @@ use super::prior::ParameterPrior;
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
 use crate::model::{self, Damping, ParameterValues};
+use crate::solvers::dense::symmetric_eigen;
 use crate::updating::serep::dot;
 
 /// A parameter whose standard deviation exceeds this is not identified.
@@ -474,7 +475,7 @@ fn unseen_subspace<'a>(
         }
     }
     let (mut held, mut mixed) = (Vec::new(), Vec::new());
-    let Some((values, vectors)) = crate::solvers::dense::symmetric_eigen(gram.as_ref()) else {
+    let Some((values, vectors)) = symmetric_eigen(gram.as_ref()) else {
         return (held, mixed);
     };
     for k in (0..np).rev().filter(|&k| values[k] > 0.5) {
