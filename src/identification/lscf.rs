@@ -29,7 +29,6 @@
 //! (D(z)L = 0), and N_o(z)L is output o's shape up to a common factor.
 
 use faer::linalg::matmul::matmul;
-use faer::linalg::solvers::Solve;
 use faer::linalg::triangular_solve::{
     solve_lower_triangular_in_place, solve_upper_triangular_in_place,
 };
@@ -38,7 +37,7 @@ use rayon::prelude::*;
 
 use super::prepare::Prepared;
 use super::IdentifyError;
-use crate::solvers::dense::{cholesky_lower, product};
+use crate::solvers::dense::{cholesky_lower, general_eigen, lu_solve, product};
 
 /// The Toeplitz sums of every order up to `max_order`.
 #[derive(Clone, Debug)]
@@ -291,8 +290,7 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
     let pm = p * m;
     let maa = mm.submatrix(0, 0, pm, pm).to_owned();
     let mab = mm.submatrix(0, pm, pm, m).to_owned();
-    let lu = maa.partial_piv_lu();
-    let alpha_a = lu.solve((-&mab).as_ref());
+    let alpha_a = lu_solve(maa.as_ref(), (-&mab).as_ref());
     if !alpha_a.col_iter().all(|c| c.iter().all(|x| x.is_finite())) {
         return Err(IdentifyError::Singular("LSCF reduced normal equations"));
     }
@@ -315,13 +313,7 @@ pub fn poles(data: &Prepared, sums: &Sums, p: usize) -> Result<Vec<OrderPole>, I
     let singular = |_| IdentifyError::Singular("LSCF companion eigenvalues");
     // One input: L is a scalar, 1 (shapes are compared up to a factor), and
     // the eigenvalues alone cost a fraction of the full decomposition.
-    let (zs, vecs) = if m == 1 {
-        (companion.eigenvalues().map_err(singular)?, None)
-    } else {
-        let eig = companion.eigen().map_err(singular)?;
-        let z = eig.S().column_vector().iter().copied().collect();
-        (z, Some(eig.U().to_owned()))
-    };
+    let (zs, vecs) = general_eigen(companion.as_ref(), m > 1).map_err(singular)?;
     // β_o = −R⁻¹S_o α = −L_p⁻ᵀ (Y_o α) over the leading blocks.
     let lt = sums.factored.chol.submatrix(0, 0, n1, n1).transpose();
     let betas: Vec<Mat<f64>> = sums

@@ -3,19 +3,24 @@
 //! (hundreds to 10⁵ rows, tens of columns). There, handing work to a
 //! thread pool costs more than it saves: faer's pool spent a third of an
 //! identification of 10 channels × 50,000 lines waiting at its barriers
-//! (perf). faer's high-level `thin_svd`, `self_adjoint_eigen`, `llt` and
-//! `*` use its process-wide parallelism setting, and its parallel kernels
+//! (perf). faer's high-level `thin_svd`, `self_adjoint_eigen`, `llt`,
+//! `partial_piv_lu`, `eigen`, `eigenvalues` and `*` use its process-wide
+//! parallelism setting, and its parallel kernels
 //! sum in another order than its sequential ones: results would depend on
 //! the machine's number of cores. These take none, so no caller has to set
 //! it and every machine gets the same bits.
 
+use faer::diag::Diag;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{cholesky_in_place, cholesky_in_place_scratch};
-use faer::linalg::evd::{self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors};
+use faer::linalg::evd::{
+    evd_real, evd_scratch, self_adjoint_evd, self_adjoint_evd_scratch, ComputeEigenvectors,
+    EvdError,
+};
 use faer::linalg::matmul::matmul;
 use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors, SvdError};
 use faer::reborrow::ReborrowMut;
-use faer::{Accum, Mat, MatMut, MatRef, Par};
+use faer::{c64, Accum, Mat, MatMut, MatRef, Par};
 
 /// A = U diag(s) Vᵀ with min(M, N) columns in U and V, s non-increasing.
 pub struct ThinSvd {
@@ -127,6 +132,94 @@ pub fn cholesky_solve(l: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
     solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
     solve_upper_triangular_in_place(l.transpose(), x.as_mut(), Par::Seq);
     x
+}
+
+/// X = A⁻¹B for a square `a` by LU with partial pivoting (PA = LU, then
+/// two triangular solves). A singular `a` gives entries that are not
+/// finite: the caller checks.
+pub fn lu_solve(a: MatRef<'_, f64>, b: MatRef<'_, f64>) -> Mat<f64> {
+    use faer::linalg::lu::partial_pivoting::{factor, solve};
+    let n = a.nrows();
+    let par = Par::Seq;
+    let mut lu = a.to_owned();
+    let mut x = b.to_owned();
+    let (mut fwd, mut bwd) = (vec![0usize; n], vec![0usize; n]);
+    let mut mem = MemBuffer::new(
+        factor::lu_in_place_scratch::<usize, f64>(n, n, par, Default::default()).or(
+            solve::solve_in_place_scratch::<usize, f64>(n, b.ncols(), par),
+        ),
+    );
+    let stack = MemStack::new(&mut mem);
+    let (_, perm) = factor::lu_in_place(
+        lu.as_mut(),
+        &mut fwd,
+        &mut bwd,
+        par,
+        stack,
+        Default::default(),
+    );
+    // L is the strict lower triangle (unit diagonal implied), U the upper.
+    solve::solve_in_place(lu.as_ref(), lu.as_ref(), perm, x.as_mut(), par, stack);
+    x
+}
+
+/// The eigenvalues λ of a real square `a` and, with `vectors`, its right
+/// eigenvectors (column j for λ_j; a complex pair's vectors are each
+/// other's conjugates), as faer's `eigen`/`eigenvalues` order them.
+pub fn general_eigen(
+    a: MatRef<'_, f64>,
+    vectors: bool,
+) -> Result<(Vec<c64>, Option<Mat<c64>>), EvdError> {
+    let n = a.nrows();
+    let par = Par::Seq;
+    let (mut re, mut im) = (Diag::<f64>::zeros(n), Diag::<f64>::zeros(n));
+    let mut u = vectors.then(|| Mat::<f64>::zeros(n, n));
+    let want = if vectors {
+        ComputeEigenvectors::Yes
+    } else {
+        ComputeEigenvectors::No
+    };
+    let mut mem = MemBuffer::new(evd_scratch::<f64>(
+        n,
+        ComputeEigenvectors::No,
+        want,
+        par,
+        Default::default(),
+    ));
+    evd_real(
+        a,
+        re.as_mut(),
+        im.as_mut(),
+        None,
+        u.as_mut().map(|u| u.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    )?;
+    let (re, im) = (re.column_vector(), im.column_vector());
+    let mut lambda: Vec<c64> = (0..n).map(|j| c64::new(re[j], im[j])).collect();
+    // A pair λ, λ̄ sits in columns j, j + 1 as Re v, Im v.
+    let shapes = u.map(|u| {
+        let mut v = Mat::<c64>::zeros(n, n);
+        let mut j = 0;
+        while j < n {
+            if im[j] == 0.0 || j + 1 == n {
+                for i in 0..n {
+                    v[(i, j)] = c64::new(u[(i, j)], 0.0);
+                }
+                j += 1;
+            } else {
+                lambda[j + 1] = lambda[j].conj();
+                for i in 0..n {
+                    v[(i, j)] = c64::new(u[(i, j)], u[(i, j + 1)]);
+                    v[(i, j + 1)] = c64::new(u[(i, j)], -u[(i, j + 1)]);
+                }
+                j += 2;
+            }
+        }
+        v
+    });
+    Ok((lambda, shapes))
 }
 
 /// The product A·B.

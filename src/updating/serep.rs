@@ -231,10 +231,8 @@ impl SerepBasis {
                 if (0..n).any(|j| (0..n).any(|i| !zp[(i, j)].is_finite())) {
                     return Err(SerepError::NonFinite);
                 }
-                let lu = zp.partial_piv_lu();
                 let id = Mat::<f64>::identity(n, n);
-                use faer::linalg::solvers::Solve;
-                let h = lu.solve(&id);
+                let h = crate::solvers::dense::lu_solve(zp.as_ref(), id.as_ref());
                 if (0..n).any(|j| (0..n).any(|i| !h[(i, j)].is_finite())) {
                     return Err(SerepError::NonFinite);
                 }

@@ -319,3 +319,37 @@ fn the_reader_finds_grouped_and_nested_paths() {
         ]
     );
 }
+
+/// faer's high-level decompositions take its process-wide parallelism, and
+/// its parallel kernels sum in another order than its sequential ones: the
+/// bytes written would depend on the machine's cores. Every dense
+/// decomposition goes through `solvers::dense`, whose kernels run on the
+/// calling thread (the sparse Cholesky of `solvers` passes its own `Par`).
+#[test]
+fn dense_decompositions_go_through_solvers_dense() {
+    let implicit = [
+        ".partial_piv_lu(",
+        ".full_piv_lu(",
+        ".eigen()",
+        ".eigenvalues()",
+        ".self_adjoint_eigen(",
+        ".llt(",
+        ".ldlt(",
+        ".thin_svd()",
+        ".svd()",
+        ".qr()",
+        ".col_piv_qr()",
+    ];
+    let mut found = Vec::new();
+    for (m, text) in modules() {
+        if name(&m) == "solvers::dense" {
+            continue;
+        }
+        for f in implicit {
+            if text.contains(f) {
+                found.push(format!("{}: {f}", name(&m)));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{found:#?}");
+}

@@ -32,6 +32,7 @@ mod report_tables;
 mod report_viewer;
 mod report_viewer_interpolate;
 mod solvers_bandwidth;
+mod solvers_dense;
 mod solvers_eigen_dense;
 mod solvers_eigen_lanczos;
 mod solvers_eigen_tridiagonal;
