@@ -74,10 +74,17 @@ pub fn columns(
     let (kernel, split) = kernels(pt, data, &lines);
     let coef = parameter_coefficients(pt, &params, split);
     let pairs = row_pairs(data, mask, &lines, pt.pred);
-    let shape = (data_rows(data, mask) + extra_rows, free.len());
+    let data_n = data_rows(data, mask);
+    let shape = (data_n + extra_rows, free.len());
+    // Recycled storage is not zeroed as a whole (megabytes on a long
+    // record): the loop below writes every data row of the free columns,
+    // zeros included; the rest is zeroed here.
     let mut jac = match storage {
         Some(mut m) if (m.nrows(), m.ncols()) == shape => {
-            m.fill(0.0);
+            for j in (0..shape.1).filter(|&j| !free[j]) {
+                m.col_mut(j).fill(0.0);
+            }
+            m.subrows_mut(data_n, extra_rows).fill(0.0);
             m
         }
         _ => Mat::<f64>::zeros(shape.0, shape.1),
@@ -365,15 +372,16 @@ fn row_pairs(
 }
 
 /// Write w·Re, w·Im of (iω)^k ∂H / H into one column of the Jacobian
-/// (`col`, whose first row is row `offset` of the whole): ∂H over the used
-/// lines is column `src` of `dh`, the rows are one channel's `pairs`.
+/// (`col`, whose first row is row `offset` of the whole), zeros where the
+/// pair has no factor: ∂H over the used lines is column `src` of `dh`, the
+/// rows are one channel's `pairs`.
 fn fill(col: &mut [f64], dh: &Split, src: usize, pairs: &[RowPair], offset: usize) {
     let (re, im) = (dh.0.col_as_slice(src), dh.1.col_as_slice(src));
     for p in pairs {
-        if let Some(factor) = p.factor {
-            let d = c64::new(re[p.line], im[p.line]) * factor;
-            col[p.row - offset] = p.weight * d.re;
-            col[p.row - offset + 1] = p.weight * d.im;
-        }
+        let d = p.factor.map_or(c64::new(0.0, 0.0), |f| {
+            c64::new(re[p.line], im[p.line]) * f * p.weight
+        });
+        col[p.row - offset] = d.re;
+        col[p.row - offset + 1] = d.im;
     }
 }

@@ -92,15 +92,17 @@ fn analytic_columns_match_central_differences() {
     let jac = columns(&pt, data, mask, &[true; 5], 0, None);
     assert_eq!(jac.nrows(), r_at(&x0).len());
     // Written into the storage of an earlier Jacobian (stale values in
-    // it, one column held so that its zeros must come from the reset):
-    // the same matrix, bit for bit.
-    let stale = faer::Mat::<f64>::from_fn(jac.nrows(), jac.ncols(), |i, j| (i + 7 * j) as f64);
+    // it, one column held and two rows left for the caller's prior rows,
+    // whose zeros must come from the reset, as must those of every other
+    // entry it does not compute): the same matrix, bit for bit.
+    let rows = jac.nrows() + 2;
+    let stale = faer::Mat::<f64>::from_fn(rows, jac.ncols(), |i, j| (i + 7 * j) as f64);
     let held = [true, false, true, true, true];
-    let again = columns(&pt, data, mask, &held, 0, Some(stale));
-    let fresh = columns(&pt, data, mask, &held, 0, None);
-    assert!((0..jac.nrows()).all(|i| again[(i, 1)] == 0.0));
-    assert!((0..jac.nrows())
-        .all(|i| (0..5).all(|j| again[(i, j)].to_bits() == fresh[(i, j)].to_bits())));
+    let again = columns(&pt, data, mask, &held, 2, Some(stale));
+    let fresh = columns(&pt, data, mask, &held, 2, None);
+    assert!((0..rows).all(|i| again[(i, 1)] == 0.0));
+    assert!((jac.nrows()..rows).all(|i| (0..5).all(|j| again[(i, j)] == 0.0)));
+    assert!((0..rows).all(|i| (0..5).all(|j| again[(i, j)].to_bits() == fresh[(i, j)].to_bits())));
     for j in 0..5 {
         let (err, norm) = central_difference_error(&r_at, &x0, j, jac.col(j), 1e-4);
         // Exact but for the high modes' series (damping neglected); the
