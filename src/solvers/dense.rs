@@ -5,9 +5,9 @@
 //! identification of 10 channels × 50,000 lines waiting at its barriers
 //! (perf). faer's high-level `thin_svd`, `self_adjoint_eigen`, `llt`,
 //! `partial_piv_lu`, `eigen`, `eigenvalues` and `*` use its process-wide
-//! parallelism setting, and its parallel kernels
-//! sum in another order than its sequential ones: results would depend on
-//! the machine's number of cores. These take none, so no caller has to set
+//! parallelism setting, and its parallel kernels sum in another order than
+//! its sequential ones: results would depend on the machine's number of
+//! cores. These take none, so no caller has to set
 //! it and every machine gets the same bits.
 
 use faer::diag::Diag;

@@ -118,9 +118,8 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     // The medians are over the channels the deck predicts to move at all: a
     // campaign may measure directions that the excitation leaves still.
     let largest = strength.iter().fold(0.0f64, |a, p| a.max(*p));
-    let moving: Vec<usize> = (0..strength.len())
-        .filter(|&c| strength[c] >= MOVES * largest)
-        .collect();
+    let moves = |c: usize| strength[c] >= MOVES * largest;
+    let moving: Vec<usize> = (0..strength.len()).filter(|&c| moves(c)).collect();
     let over_moving = |v: &[f64]| median(&moving.iter().map(|&c| v[c]).collect::<Vec<_>>());
     let (Some(snr_mid), Some(strength_mid)) = (over_moving(&snr), over_moving(&strength)) else {
         return Vec::new();
@@ -147,9 +146,7 @@ pub fn dead_channels(data: &TestData, mm: &ModalModel) -> Vec<DataError> {
     // the test should show: those that move and those clear of their
     // noise (a driving point's accelerance can put every other channel
     // under MOVES of the largest, leaving two "moving" channels of six).
-    let expected_live = (0..snr.len())
-        .filter(|&c| strength[c] >= MOVES * largest || clear(c))
-        .count();
+    let expected_live = (0..snr.len()).filter(|&c| moves(c) || clear(c)).count();
     if 2 * dead.len() >= expected_live {
         return Vec::new();
     }
