@@ -301,16 +301,45 @@ fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
 /// scale·TᵀST for a sparse symmetric S: only the rows of T where S has
 /// entries take part (a parameter's ∂K touches a few elements).
 fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
-    let mut st = Mat::<f64>::zeros(s.nrows(), t.ncols());
-    sparse_dense_matmul(st.as_mut(), Accum::Replace, s.as_ref(), t, 1.0, Par::Seq);
     let sym = s.symbolic();
     let mut support: Vec<usize> = (0..s.ncols())
         .flat_map(|c| sym.row_idx_of_col_raw(c).iter().copied())
         .collect();
     support.sort_unstable();
     support.dedup();
+    // (S T) on the support rows only: S's entries lie in support × support
+    // (S symmetric), so only T's support rows take part, and no n × m
+    // product is formed (a parameter's ∂K touches a few elements; building
+    // and zeroing the whole product cost most of a re-anchoring).
+    let mut position = vec![usize::MAX; s.nrows()];
+    for (i, &r) in support.iter().enumerate() {
+        position[r] = i;
+    }
+    let entries: Vec<(usize, usize, f64)> = support
+        .iter()
+        .enumerate()
+        .flat_map(|(jc, &c)| {
+            let rows = sym.row_idx_of_col_raw(c).iter();
+            rows.zip(s.val_of_col(c)).map(move |(&r, &v)| (jc, r, v))
+        })
+        .map(|(jc, r, v)| (position[r], jc, v))
+        .collect();
     let tr = Mat::from_fn(support.len(), t.ncols(), |i, k| t[(support[i], k)]);
-    let sr = Mat::from_fn(support.len(), t.ncols(), |i, k| st[(support[i], k)]);
+    let mut sr = Mat::<f64>::zeros(support.len(), t.ncols());
+    for k in 0..t.ncols() {
+        let (src, dst) = (tr.col(k), sr.col_mut(k));
+        let (src, dst) = (
+            src.try_as_col_major()
+                .expect("a column is contiguous")
+                .as_slice(),
+            dst.try_as_col_major_mut()
+                .expect("a column is contiguous")
+                .as_slice_mut(),
+        );
+        for &(i, jc, v) in &entries {
+            dst[i] += v * src[jc];
+        }
+    }
     let mut out = Mat::<f64>::zeros(t.ncols(), t.ncols());
     matmul(
         out.as_mut(),
