@@ -12,7 +12,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --quiet --bin frfup
-frfup="$PWD/${CARGO_TARGET_DIR:-target}/release/frfup"
+target="${CARGO_TARGET_DIR:-target}"
+case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
+frfup="$target/release/frfup"
 work="${1:-random-benchmark/long-record}"
 mkdir -p "$work"
 cd "$work"
