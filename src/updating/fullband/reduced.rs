@@ -315,14 +315,15 @@ fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
     for (i, &r) in support.iter().enumerate() {
         position[r] = i;
     }
+    let position = &position;
     let entries: Vec<(usize, usize, f64)> = support
         .iter()
         .enumerate()
         .flat_map(|(jc, &c)| {
             let rows = sym.row_idx_of_col_raw(c).iter();
-            rows.zip(s.val_of_col(c)).map(move |(&r, &v)| (jc, r, v))
+            rows.zip(s.val_of_col(c))
+                .map(move |(&r, &v)| (position[r], jc, v))
         })
-        .map(|(jc, r, v)| (position[r], jc, v))
         .collect();
     let tr = Mat::from_fn(support.len(), t.ncols(), |i, k| t[(support[i], k)]);
     let mut sr = Mat::<f64>::zeros(support.len(), t.ncols());
