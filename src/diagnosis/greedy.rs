@@ -4,10 +4,13 @@
 //! best by more than the margin (of candidates tied with it, the one the
 //! placement prior names: [`prior`]), or a pair fitted jointly when two effects
 //! mask each other; after each acceptance the earlier extensions are
-//! re-estimated jointly and the damping form is chosen again. The search
-//! stops at the noise level, at `max_findings`, when the evaluation budget
-//! is spent or when no candidate passes.
+//! re-estimated jointly, the damping form is chosen again and the deck's
+//! own parameters are updated again on the extended deck (taken then only
+//! at the noise level; at the end of the search when the fit improves).
+//! The search stops at the noise level, at `max_findings`, when the
+//! evaluation budget is spent or when no candidate passes.
 
+use std::cell::Cell;
 use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -32,7 +35,8 @@ pub(super) struct Greedy {
     /// parameter).
     pub accepted: Vec<(Hypothesis, Option<f64>)>,
     /// The deck the accepted extensions are applied to: the start, with the
-    /// deck's parameters moved when an extension was fitted along with them.
+    /// deck's parameters moved when an extension was fitted along with them
+    /// or updated again after an acceptance.
     pub base: Deck,
     /// `base` with the accepted extensions, its damping, its cost on all
     /// data and its validation cost.
@@ -43,30 +47,38 @@ pub(super) struct Greedy {
     pub rejected: Vec<Rejected>,
     /// The node scores of the first round.
     pub localisation: Vec<(u32, f64, String)>,
-    /// Deck parameters re-updated on the extended deck.
-    pub parameters: Option<ParameterValues>,
+    /// The relative changes p̄ of the deck's parameters that `base` carries,
+    /// relative to the deck as given.
+    pub base_values: ParameterValues,
 }
 
 /// Greedy search from `start`: damping form, then extensions one at a time.
 /// `None` if no damping form gives a usable model. `stop`: end the search
 /// before its next round (its result is then not used).
+/// `start_values`: the deck's parameter values `start` carries (relative
+/// to the deck as given).
 pub(super) fn search(
     search: &Search,
     start: &Deck,
+    start_values: &ParameterValues,
     stop: &AtomicBool,
 ) -> Result<Option<Greedy>, DiagnoseError> {
-    let Some(mut g) = Greedy::start(search, start) else {
+    let Some(mut g) = Greedy::start(search, start, start_values) else {
         return Ok(None);
     };
     let (engine, opts) = (search.engine, search.opts);
     // The budget is this search's: a second start gets its own.
+    // The updates after an acceptance are not the search's work: the
+    // rounds' budget stays what it was without them.
     let spent_before = engine.spent();
-    let within_budget = || engine.spent() - spent_before <= opts.evaluation_budget;
+    let updates = Cell::new(0);
+    let within_budget = || engine.spent() - spent_before - updates.get() <= opts.evaluation_budget;
     // One round can spend the whole budget (its full fits with the deck's
     // parameters free cost thousands of model solutions), and a check made
     // only between rounds would then end every search after its first
     // finding: two effects that mask each other need the second round. The
     // budget therefore bounds the rounds after the second.
+    let mut pending = None;
     for round in 0..opts.max_findings {
         let budget_left = round <= 1 || within_budget();
         let stopped = stop.load(Ordering::Relaxed);
@@ -82,16 +94,25 @@ pub(super) fn search(
         if round == 0 {
             g.localisation = step.localisation.clone();
         }
+        let accepted_before = g.accepted.len();
         if !g.take_round(search, round, step, within_budget()) {
             break;
         }
+        if g.accepted.len() > accepted_before && !stop.load(Ordering::Relaxed) {
+            let before = engine.spent();
+            pending = search.update_after_acceptance(&mut g);
+            updates.set(updates.get() + engine.spent() - before);
+        }
+    }
+    if !stop.load(Ordering::Relaxed) {
+        search.update_at_end(&mut g, pending);
     }
     Ok(Some(g))
 }
 
 impl Greedy {
     /// `start` with the damping form chosen and fitted, nothing accepted.
-    fn start(search: &Search, start: &Deck) -> Option<Greedy> {
+    fn start(search: &Search, start: &Deck, start_values: &ParameterValues) -> Option<Greedy> {
         let engine = search.engine;
         let (damp, _forms) =
             select::choose_damping(engine, start, search.deck_form.clone(), search.zeta0)?;
@@ -106,7 +127,7 @@ impl Greedy {
             v: engine.validate(None, start, &base_fit),
             rejected: Vec::new(),
             localisation: Vec::new(),
-            parameters: None,
+            base_values: start_values.clone(),
         })
     }
 
@@ -260,6 +281,7 @@ impl Greedy {
             return false;
         }
         let base = model::updated_deck(&self.base, &jf.deck_values);
+        let base_values = model::composed_values(&self.base_values, &jf.deck_values);
         let current = apply_accepted(&base, &self.accepted);
         let Some(bf) = engine.fit(&FitRequest::damping(&current, &jf.damping, &engine.all)) else {
             return false;
@@ -286,6 +308,7 @@ impl Greedy {
         }
         self.v = engine.validate(None, &current, &bf);
         self.base = base;
+        self.base_values = base_values;
         self.current = current;
         self.damp = bf.damping.clone();
         self.cost = bf.cost;
@@ -402,6 +425,7 @@ impl Greedy {
         self.accepted.push((h, f.value));
         if !f.deck_values.is_empty() {
             self.base = model::updated_deck(&self.base, &f.deck_values);
+            self.base_values = model::composed_values(&self.base_values, &f.deck_values);
         }
         self.current = apply_accepted(&self.base, &self.accepted);
         self.damp = f.damping.clone();
@@ -511,7 +535,7 @@ fn prefer_by_prior(scored: &mut [(Hypothesis, HypFit, f64)], j0: f64, deck: &Dec
 }
 
 /// `start` with the accepted extensions at their values.
-fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
+pub(super) fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)]) -> Deck {
     accepted
         .iter()
         .fold(start.clone(), |d, (h, v)| h.apply(&d, *v))

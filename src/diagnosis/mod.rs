@@ -160,7 +160,10 @@ pub struct Diagnosis {
     /// The deck after the first stage, its own parameters updated (what
     /// `updated` scores).
     pub updated_deck: Deck,
-    /// Parameter values of the update (relative changes), empty if none.
+    /// The deck's parameter values the diagnosed deck carries (relative
+    /// changes from the deck as given): the first stage's, or those of the
+    /// update run again on the extended deck, or a joint fit's; empty if
+    /// none.
     pub updated_parameters: ParameterValues,
     pub update_note: Option<String>,
     /// Validation cost noise level J0.
@@ -252,7 +255,7 @@ pub fn diagnose_with_progress(
 
     // 2.–4. Greedy extensions from each start.
     stage("searching for missing physics");
-    let best = search.extensions_from_starts(&first.deck)?;
+    let best = search.extensions_from_starts(&first.deck, &first.parameters)?;
     lap("search extensions (all starts)", engine.spent());
     let Some(g) = best else {
         return Err(DiagnoseError::Eigen(
@@ -288,7 +291,7 @@ pub fn diagnose_with_progress(
         diagnosed,
         diagnosed_deck,
         updated_deck: first.deck,
-        updated_parameters: g.parameters.unwrap_or(first.parameters),
+        updated_parameters: g.base_values,
         update_note: first.note,
         noise_level: search.j0,
         localisation: g.localisation,

@@ -11,7 +11,8 @@ use super::first_stage;
 use super::fit::{self, DampingForm, DampingState};
 use super::greedy::{self, Greedy};
 use super::hypotheses::damping as hdamp;
-use super::select::{self, Engine, FitRequest};
+use super::hypotheses::Hypothesis;
+use super::select::{self, Engine, FitRequest, HypFit};
 use super::{DiagnoseError, DiagnoseOptions};
 use crate::model::{self, ParameterValues};
 use crate::testdata::MeasuredFrfs;
@@ -68,15 +69,19 @@ impl<'a> Search<'a> {
 
     /// Steps 2–4, greedy extensions from the updated deck and (if the update
     /// changed it) from the deck as given: an update can absorb missing
-    /// physics into the deck's parameters. After extensions are found, the
-    /// deck's parameters are updated again on the extended deck. The search
+    /// physics into the deck's parameters. When the deck has parameters and
+    /// the update is not skipped, they are updated again on the extended
+    /// deck (see [`Search::update_at_end`] and
+    /// [`Search::update_after_acceptance`]). The search
     /// that predicts held-out data best (by more than the margin) wins.
+    /// `updated_values`: the parameter values `updated_deck` carries.
     pub fn extensions_from_starts(
         &self,
         updated_deck: &Deck,
+        updated_values: &ParameterValues,
     ) -> Result<Option<Greedy>, DiagnoseError> {
         if updated_deck == self.deck {
-            return self.search_from(updated_deck, &AtomicBool::new(false));
+            return self.search_from(updated_deck, updated_values, &AtomicBool::new(false));
         }
         // The two starts are searched side by side, the second with an
         // engine of its own. The updated deck (first start) at the noise
@@ -88,13 +93,13 @@ impl<'a> Search<'a> {
         let first_explains = AtomicBool::new(false);
         let (first, other) = rayon::join(
             || {
-                let g = self.search_from(updated_deck, &AtomicBool::new(false));
+                let g = self.search_from(updated_deck, updated_values, &AtomicBool::new(false));
                 if let Ok(Some(g)) = &g {
                     first_explains.store(self.at_noise_level(g.cost), Ordering::Relaxed);
                 }
                 g
             },
-            || second.search_from(self.deck, &first_explains),
+            || second.search_from(self.deck, &ParameterValues::new(), &first_explains),
         );
         let first = first?;
         if first_explains.load(Ordering::Relaxed) {
@@ -124,47 +129,109 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// The greedy search from `start`, the deck's parameters updated again
-    /// on what it accepted; `stop`: abandon it between rounds.
+    /// The greedy search from `start`; `stop`: abandon it between rounds.
     fn search_from(
         &self,
         start: &Deck,
+        start_values: &ParameterValues,
         stop: &AtomicBool,
     ) -> Result<Option<Greedy>, DiagnoseError> {
         if stop.load(Ordering::Relaxed) {
             return Ok(None);
         }
-        let Some(mut g) = greedy::search(self, start, stop)? else {
-            return Ok(None);
-        };
-        if self.updates_parameters() && !g.accepted.is_empty() && !stop.load(Ordering::Relaxed) {
-            self.update_extended_deck(&mut g);
-        }
-        Ok(Some(g))
+        greedy::search(self, start, start_values, stop)
     }
 
-    /// Update the deck's own parameters again on the deck with the accepted
-    /// extensions ([`first_stage::parameters_on`]); `g` takes them when they
-    /// lower its cost.
-    fn update_extended_deck(&self, g: &mut Greedy) {
+    /// The deck's own parameters updated again on the deck as given with
+    /// `g`'s accepted extensions ([`first_stage::parameters_on`]), and what
+    /// `g` becomes with them (`None`: no update, or none asked for).
+    fn re_update(&self, g: &Greedy) -> Option<ReUpdate> {
+        if !self.updates_parameters() || g.accepted.is_empty() {
+            return None;
+        }
         let engine = self.engine;
-        let mut ext = self.deck.clone();
-        for (h, v) in &g.accepted {
-            ext = h.apply(&ext, *v);
+        let ext = greedy::apply_accepted(self.deck, &g.accepted);
+        let values = first_stage::parameters_on(self, &ext, &g.damp)?;
+        let base = model::updated_deck(self.deck, &values);
+        let current = greedy::apply_accepted(&base, &g.accepted);
+        let fit = engine.fit(&FitRequest::damping(&current, &g.damp, &engine.all))?;
+        Some(ReUpdate {
+            state: ReUpdate::state_of(g),
+            values,
+            base,
+            current,
+            fit,
+        })
+    }
+
+    /// After an acceptance: the update again on the extended deck, taken
+    /// only when it explains the test to the noise level (then nothing is
+    /// left to find). The extension was fitted with the deck's parameters
+    /// by a few Levenberg–Marquardt steps from the deck, which can stop in
+    /// a minimum where a spurious next extension pays (seed-1 diagnosis
+    /// benchmark case 085: an added mass fitted with the suspension
+    /// stiffness at −32 % left 2× the noise level, and a spring at another
+    /// node was accepted; the update from the deck with the mass in place
+    /// reaches −13 %, truth −13.1 %, at the noise level). Short of it,
+    /// the update can absorb what is still missing (case 107: after the
+    /// suspension, a sensor mass the update took into the deck's
+    /// parameters was then not found), so the search goes on from the joint
+    /// fit; the update is returned for [`Search::update_at_end`].
+    pub(super) fn update_after_acceptance(&self, g: &mut Greedy) -> Option<ReUpdate> {
+        let mut u = self.re_update(g)?;
+        if u.fit.cost < g.cost && self.at_noise_level(u.fit.cost) {
+            u.take(self.engine, g);
+            // `g` now carries this update (the search ends at the noise
+            // level): it is not made again at the end.
+            u.state = ReUpdate::state_of(g);
         }
-        let Some(values) = first_stage::parameters_on(self, &ext, &g.damp) else {
-            return;
+        Some(u)
+    }
+
+    /// At the end of a search: the update again on the extended deck
+    /// (`pending` when it was made for `g` as it is), taken when it lowers
+    /// the cost.
+    pub(super) fn update_at_end(&self, g: &mut Greedy, pending: Option<ReUpdate>) {
+        let u = match pending {
+            Some(u) if u.state == ReUpdate::state_of(g) => Some(u),
+            _ => self.re_update(g),
         };
-        let cand = model::updated_deck(&ext, &values);
-        if let Some(f) = engine.fit(&FitRequest::damping(&cand, &g.damp, &engine.all)) {
-            if f.cost < g.cost {
-                g.current = cand;
-                g.damp = f.damping.clone();
-                g.cost = f.cost;
-                g.v = engine.validate(None, &g.current, &f);
-                g.parameters = Some(values);
-            }
+        if let Some(u) = u.filter(|u| u.fit.cost < g.cost) {
+            u.take(self.engine, g);
         }
+    }
+}
+
+/// What a [`ReUpdate`] depends on in a greedy search.
+type ReUpdateState = (Vec<(Hypothesis, Option<f64>)>, DampingState, u64);
+
+/// The deck's parameters updated again on a greedy search's extended deck.
+pub(super) struct ReUpdate {
+    /// The search's state it was made for: its accepted extensions (with
+    /// their values), damping and cost.
+    state: ReUpdateState,
+    /// The parameters' values relative to the deck as given.
+    values: ParameterValues,
+    /// The deck as given with them, then with the extensions.
+    base: Deck,
+    current: Deck,
+    /// The damping-profiled fit of `current`.
+    fit: HypFit,
+}
+
+impl ReUpdate {
+    fn state_of(g: &Greedy) -> ReUpdateState {
+        (g.accepted.clone(), g.damp.clone(), g.cost.to_bits())
+    }
+
+    /// `g` with the updated parameters.
+    fn take(&self, engine: &Engine, g: &mut Greedy) {
+        g.v = engine.validate(None, &self.current, &self.fit);
+        g.base = self.base.clone();
+        g.current = self.current.clone();
+        g.damp = self.fit.damping.clone();
+        g.cost = self.fit.cost;
+        g.base_values = self.values.clone();
     }
 }
 

@@ -49,7 +49,8 @@ impl Verdict {
     }
 
     /// The verdict of findings, whether the final model is at the noise
-    /// level, its FRF error and the first stage's parameter changes.
+    /// level, its FRF error and the changes of the deck's parameters in the
+    /// final model ([`super::Diagnosis::updated_parameters`]).
     pub fn from_parts(
         findings: &[Finding],
         at_noise_level: bool,

@@ -3,7 +3,8 @@
 //!
 //! - [`build`]: [`Deck`](frfup_parsers::deck::Deck) + [`ParameterValues`] →
 //!   [`FeModel`] (K, M over the free DOFs, ∂K/∂p and ∂M/∂p of every `param`);
-//! - [`updated_deck`], [`parameter_names`]: the deck with values multiplied out;
+//! - [`updated_deck`], [`composed_values`], [`parameter_names`]: the deck
+//!   with values multiplied out;
 //! - [`elements`]: the element matrices (3D frame beam, Euler–Bernoulli or
 //!   Timoshenko; the plane x–z frame as its restriction to x, z, ry; lumped
 //!   masses and springs);
@@ -29,7 +30,7 @@ mod update;
 
 pub use assembly::{build, check_mass, dof_of};
 pub use error::ModelError;
-pub use update::{parameter_names, updated_deck};
+pub use update::{composed_values, parameter_names, updated_deck};
 
 /// Global sparse matrices: free DOFs only, both triangles stored.
 pub type SparseMatrix = SparseColMat<usize, f64>;

@@ -66,6 +66,18 @@ fn scaled_section(s: &Section, f: &[f64]) -> Section {
     }
 }
 
+/// The values that update a deck as `a` then `b` (relative to the deck
+/// `a` gave) do in one step: (1 + p̄) = (1 + a)(1 + b) per parameter, as
+/// [`updated_deck`] multiplies the factors of every parameter.
+pub fn composed_values(a: &ParameterValues, b: &ParameterValues) -> ParameterValues {
+    let mut out = a.clone();
+    for (name, &vb) in b {
+        let va = a.get(name).copied().unwrap_or(0.0);
+        out.insert(name.clone(), (1.0 + va) * (1.0 + vb) - 1.0);
+    }
+    out
+}
+
 /// The deck with `values` multiplied out: every quantity a parameter touches
 /// becomes (1 + p̄)·(deck value). Where a parameter touches some of the beams
 /// sharing a material (section), the touched beams get a new material

@@ -6,7 +6,9 @@
 //! compared with 1e-8·‖K‖ (resp. ‖M‖) in the max norm.
 
 use crate::model_common::*;
-use frfup::model::{build, parameter_names, updated_deck, FeModel, ParameterValues};
+use frfup::model::{
+    build, composed_values, parameter_names, updated_deck, FeModel, ParameterValues,
+};
 use frfup::parsers::deck::{parse, write};
 
 /// Skew 3D frame, both theories, G given and derived, masses and springs,
@@ -162,6 +164,35 @@ fn updated_deck_multiplies_values_out() {
     assert_eq!(write(&updated_deck(&d, &values)), text);
     let again = updated_deck(&parse(&text).unwrap(), &ParameterValues::new());
     assert_eq!(write(&again), text);
+}
+
+/// Updating by `a`, then by `b` on the result, gives the matrices of one
+/// update by the composed values, (1 + a)(1 + b) − 1 per parameter (the
+/// diagnosis keeps its decks' values relative to the deck as given this
+/// way); parameters in only one of the two keep their value.
+#[test]
+fn composed_values_update_in_one_step_as_in_two() {
+    let vals = |v: &[(&str, f64)]| -> ParameterValues {
+        v.iter().map(|(k, x)| (k.to_string(), *x)).collect()
+    };
+    let a = vals(&[("pE", 0.2), ("pm", 0.1), ("pk", -0.4)]);
+    let b = vals(&[("pE", -0.3), ("pIy", 0.25), ("pk", 0.5)]);
+    let c = composed_values(&a, &b);
+    assert_eq!(c.len(), 4);
+    assert!((c["pE"] - (1.2 * 0.7 - 1.0)).abs() < 1e-15);
+    assert!((c["pk"] - (0.6 * 1.5 - 1.0)).abs() < 1e-15);
+    assert_eq!((c["pm"], c["pIy"]), (0.1, 0.25));
+    let d = parse(DECK).unwrap();
+    let two = build(
+        &updated_deck(&updated_deck(&d, &a), &b),
+        &ParameterValues::new(),
+    )
+    .unwrap();
+    let one = build(&updated_deck(&d, &c), &ParameterValues::new()).unwrap();
+    let (k2, k1) = (dense(&two.stiffness), dense(&one.stiffness));
+    let (m2, m1) = (dense(&two.mass), dense(&one.mass));
+    assert!(amax(&(&k2 - &k1)) <= 1e-14 * amax(&k1));
+    assert!(amax(&(&m2 - &m1)) <= 1e-14 * amax(&m1));
 }
 
 /// Bounds written against the deck's values bound the same physical values

@@ -164,7 +164,7 @@ fn disagreed(s: &mut String, d: &Diagnosis, charts: &Embedded) {
             .collect();
         let _ = writeln!(
             s,
-            "<p>Updated parameter values (relative changes): {}.</p>",
+            "<p>The deck's parameters in the diagnosed model (relative changes from the deck as given): {}.</p>",
             vals.join(", ")
         );
     }
