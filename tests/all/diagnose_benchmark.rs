@@ -259,17 +259,21 @@ fn a_dead_driving_point_is_left_out_and_the_update_still_runs() {
 }
 
 /// Case 28 of the seed-1 set: two swapped channels and a flexible support
-/// on a pinned T-frame (roving hammer). In the second round an added mass
-/// at node 5, fitted along with the deck's parameters, is the best
-/// candidate (cost 0.677); the deck's parameters alone, refitted from the
-/// values its joint fit gave them, cost 0.747, within its margin (0.095):
-/// the mass only stood in for a parameter-only fit that had stopped short,
-/// so the parameters are taken instead and the mass is rejected with that
-/// reason (measured when written). Before that step (0ca9c49), cases 048
-/// and 064 of this set reported such a mass, a false finding.
+/// on a pinned T-frame (roving hammer), five of the deck's parameters off.
+/// Before 7d1bb43 the second round's best candidate was an added mass
+/// fitted along with the deck's parameters; the parameters alone, refitted
+/// from the values its joint fit gave them, fitted as well, so they were
+/// taken instead and the mass set aside (greedy.rs
+/// `parameters_alone_suffice`; before 0ca9c49 cases 048 and 064 reported
+/// such a mass). Now the deck's parameters are updated again after the
+/// support's spring is accepted, that reaches the noise level and the
+/// search ends there: no second round, and the parameters reported are
+/// those of the diagnosed deck, within 0.04 of the truth (measured when
+/// written: largest difference 0.034, `E_m1s1`, the material of the
+/// members at the flexible support; the others within 0.002).
 #[test]
-fn a_candidate_that_stands_in_for_the_parameters_is_set_aside() {
-    let (_, json) = right_at_noise_level(28);
+fn the_parameters_updated_after_a_finding_leave_nothing_to_stand_in_for_them() {
+    let (s, json) = right_at_noise_level(28);
     let named: Vec<&str> = json["findings"]
         .as_array()
         .unwrap()
@@ -277,11 +281,26 @@ fn a_candidate_that_stands_in_for_the_parameters_is_set_aside() {
         .map(|f| f["physics"].as_str().unwrap())
         .collect();
     assert_eq!(named, ["swapped-channels", "support-flexibility"], "{json}");
-    let set_aside = json["rejected"].as_array().unwrap().iter().any(|r| {
-        r["hypothesis"].as_str().unwrap().starts_with("added-mass")
-            && r["reason"].as_str().unwrap().ends_with("taken instead")
-    });
-    assert!(set_aside, "{}", json["rejected"]);
+    let rounds: Vec<u64> = json["rejected"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["round"].as_u64().unwrap())
+        .collect();
+    assert!(rounds.iter().all(|&r| r == 1), "{}", json["rejected"]);
+    let c = generate_diagnosis(case_seed(1, 28), &GenOptions::diagnosis()).unwrap();
+    for p in &c.params {
+        let reported = json["updated_parameters"][&p.name].as_f64().unwrap();
+        assert!(
+            (reported - p.value).abs() < 0.04,
+            "{}: {reported} against {}",
+            p.name,
+            p.value
+        );
+    }
+    // The support's spring within the benchmark's factor 2 (measured 1.15).
+    assert!(s.effects.iter().any(|e| e.value_ok == Some(true)));
+    assert!(s.effects.iter().all(|e| e.value_ok != Some(false)));
 }
 
 /// Case 36 of the seed-1 set: a free-free plane portal (nodes 1 and 4 its
