@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 use frfup_parsers::deck::Deck;
 
-use super::fit::{self, DampingState, ModalModel};
+use super::fit::{self, DampingState};
 use super::hypotheses::{self, Context, Hypothesis, Physics};
 use super::joint_screen::{self, frequency_seeded_with};
 use super::search::Search;
@@ -45,8 +45,6 @@ struct Current<'a> {
     used: &'a [String],
     /// The weighted residual r₀ of the current model on all data.
     r0: Vec<f64>,
-    /// The current model's modal model at the channels.
-    mm: ModalModel,
     /// What the hypothesis generators need to know of the model.
     ctx: Context<'a>,
     /// More than 200 DOFs: smaller searches.
@@ -172,7 +170,6 @@ impl<'a> Current<'a> {
             damp,
             used,
             r0,
-            mm,
             ctx,
             large,
             free_parameters: false,
@@ -356,19 +353,16 @@ fn choose_suspension_springs(
     }
 }
 
-/// The suspension spring sets whose rigid-body modes on springs explain the
-/// test's low band best ([`suspension_placement`]), added to `chosen`;
+/// The suspension spring sets whose rigid-body modes on springs match the
+/// test's suspension modes in frequency ratio and shape, added to `chosen`;
 /// their labels (they are refitted with the deck's parameters: the
 /// placement is evidence of its own, and a deck distorted by an update
 /// that lacked the springs fits them badly).
 fn placed_suspension(engine: &Engine, cur: &Current, chosen: &mut Vec<Hypothesis>) -> Vec<String> {
-    let low = suspension_placement::LowBand {
-        data: engine.data,
-        model: &cur.mm,
-        damping: cur.damp.damping(),
-        mask: &engine.all,
-    };
-    let placed = suspension_placement::placements(&cur.ctx, &low, PLACED_SETS);
+    let first_hz = cur.ctx.first_elastic_omega / (2.0 * std::f64::consts::PI);
+    let test =
+        suspension_placement::test_suspension_modes(engine.data, engine.test_modes(), first_hz);
+    let placed = suspension_placement::placements(&cur.ctx, engine.data, &test, PLACED_SETS);
     let mut labels = Vec::new();
     for p in placed {
         let h = hypotheses::springs::suspension(&cur.ctx, p.nodes, p.dof);

@@ -1,4 +1,4 @@
-//! Suspension springs placed by the test's low band.
+//! Suspension springs placed by the test's suspension modes.
 //!
 //! A free-free structure on soft springs of stiffness k at the nodes S (one
 //! direction d) has, to first order in k, the rigid-body modes of the deck
@@ -8,67 +8,70 @@
 //!
 //!   k·G_S q = ω² q,   G_S = Σ_{n∈S} u_nᵀ u_n   (n_r × n_r),
 //!
-//! so their eigenvalues are λ_i = k μ_i over the eigenvalues μ_i of G_S and
-//! their coefficient at channel c is a_ci = (u_c q_i)(u_e q_i) (u_e: the
-//! excitation's row). Below [`SUSPENSION_BAND`] of the deck's first elastic
-//! frequency the test is these modes plus the deck's elastic modes:
-//!
-//!   H_c(ω) = H_c^elastic(ω) + (iω)ⁿ Σ_i a_ci / d(λ_i, ω),
-//!
-//! with the deck's damping d (the full fit that follows models them so).
-//! Every set of one or two nodes, and of three among the nodes of the best
-//! pairs, is scored by that prediction's weighted log error on the low
-//! band's lines (the cost of the full fit, [`fit::residuals`]), k fitted by
-//! a search over ln k. The FRFs themselves are compared, not modes
-//! identified from them: suspension modes a few lines above the band's
-//! start, or narrower than a line, are rarely found by the identification,
-//! but their spring and mass lines and their peaks are in the data. Sets
-//! alike in their rigid-body effect (two nodes above one another under
-//! vertical springs) score alike to rounding; the full FRF fit of the round,
-//! which also sees the springs' small effect on the elastic modes, tells
-//! them apart or not at all; then the set hung from hard points wins
-//! ([`OFF_HARD_POINT`]).
+//! so their frequencies are √(k μ_i)/2π over the eigenvalues μ_i of G_S and
+//! their shapes at the channels are U q_i (U: the rows of Φ_r there). The
+//! frequency ratios and the shapes depend on the placement alone; k only
+//! scales. Every set of one or two nodes, and of three among the nodes of
+//! the best pairs, is scored against the suspension modes the
+//! identification finds in the test (the modes below [`SUSPENSION_BAND`] of
+//! the deck's first elastic frequency), k fitted in closed form
+//! (ln k = mean of ln(ω_t²/μ_i) over the paired modes). The best sets go to
+//! the full FRF fit of the round, which also sees the springs' small effect
+//! on the elastic modes: sets alike in their rigid-body effect (two nodes
+//! above one another under vertical springs) are told apart there, or not
+//! at all; then the set hung from hard points wins ([`OFF_HARD_POINT`]).
 
-use std::collections::HashMap;
-
-use faer::c64;
 use frfup_parsers::deck::DeckDof;
 use nalgebra::{DMatrix, SymmetricEigen};
-use rayon::prelude::*;
 
 use super::data::TestData;
-use super::fit::{self, Mask, ModalModel};
 use super::hypotheses::{prior, Context};
 use crate::identification::ColumnMode;
-use crate::model::{self, Damping, Dof, ParameterValues};
+use crate::model::{self, Dof, ParameterValues};
+use crate::updating::correlation::mac;
 
-/// The low band: test lines below this fraction of the deck's first
-/// elastic frequency are the suspension's.
+/// Test modes below this fraction of the deck's first elastic frequency are
+/// the suspension's.
 pub const SUSPENSION_BAND: f64 = 0.5;
-/// Fewer low-band lines than this: no placement (k and the set are fitted
-/// to them).
-const MIN_LOW_LINES: usize = 4;
-/// Each spring beyond the first costs this much (in ln of the low band's
-/// cost): a further spring must lower the cost by 2 %.
-const PER_SPRING: f64 = 0.02;
+/// A frequency mismatch of this (natural log, ≈ 10 %) costs as much as a
+/// shape with no correlation (MAC 0): the deck's mass distribution, not yet
+/// updated, moves the frequency ratios by a few per cent.
+const LN_FREQUENCY_SCALE: f64 = 0.1;
+/// Each spring beyond the first costs this much: of two sets that explain
+/// the suspension modes alike, the smaller.
+const PER_SPRING: f64 = 1e-3;
 /// Each spring off a hard point (a free end, corner or junction, see
 /// [`prior::hard_points`]) costs this much: of sets alike in their
 /// rigid-body effect (nodes along a leg under vertical springs), the one
 /// hung from hard points.
-const OFF_HARD_POINT: f64 = 0.01;
+const OFF_HARD_POINT: f64 = 2e-3;
 /// Nodes of the best pairs among which triples are tried.
 const TRIPLE_POOL: usize = 12;
-/// Points of the first search over ln k, and golden-section steps after it.
-const K_GRID: usize = 12;
-const K_REFINE: usize = 12;
 
-/// What a placement is scored against: the test, the current model's modal
-/// model at its channels, its damping and the lines and channels in use.
-pub struct LowBand<'a> {
-    pub data: &'a TestData,
-    pub model: &'a ModalModel,
-    pub damping: Damping,
-    pub mask: &'a Mask,
+/// The test's suspension modes: frequency (Hz) and real shape at the
+/// channels.
+#[derive(Clone, Debug)]
+pub struct SuspensionModes {
+    pub frequency_hz: Vec<f64>,
+    pub shapes: Vec<Vec<f64>>,
+}
+
+/// The modes the identification finds in `data` below
+/// [`SUSPENSION_BAND`] × `first_elastic_hz` (none if it finds nothing).
+pub fn test_suspension_modes(
+    data: &TestData,
+    modes: &[ColumnMode],
+    first_elastic_hz: f64,
+) -> SuspensionModes {
+    let lo = data.lines_hz.first().copied().unwrap_or(0.0);
+    let keep: Vec<&ColumnMode> = modes
+        .iter()
+        .filter(|m| m.frequency_hz > lo && m.frequency_hz < SUSPENSION_BAND * first_elastic_hz)
+        .collect();
+    SuspensionModes {
+        frequency_hz: keep.iter().map(|m| m.frequency_hz).collect(),
+        shapes: keep.iter().map(|m| m.shape.clone()).collect(),
+    }
 }
 
 /// The test's modes by the identification of the update and `identify`.
@@ -114,9 +117,8 @@ fn low_band_modes(
     crate::identification::identify_column(&lines_hz[..n], kind, &band).unwrap_or_default()
 }
 
-/// One placement: the nodes, the direction, k fitted to the low band (N/m)
-/// and its score (ln of the low band's cost, plus [`PER_SPRING`] and
-/// [`OFF_HARD_POINT`]).
+/// One placement: the nodes, the direction, k fitted to the frequencies
+/// (N/m) and its score (0: the suspension modes matched exactly).
 #[derive(Clone, Debug)]
 pub struct Placement {
     pub nodes: Vec<u32>,
@@ -129,66 +131,49 @@ pub struct Placement {
 type NodeRows = Vec<(u32, Vec<f64>)>;
 
 /// The rigid-body rows of the deck: per translational direction of the
-/// analysis, u_n for each beam node; u_c at the channels and u_e at the
-/// excitation.
+/// analysis, u_n for each beam node; and U at the channels.
 struct RigidRows {
     /// (direction, [(node, u_n)]).
     nodes: Vec<(DeckDof, NodeRows)>,
-    /// u_c: per channel, the rigid-body modes there (times the channel's
-    /// sign and the excitation's, as [`ModalModel::coeff`]).
+    /// U: per channel, the rigid-body modes there (times the channel's sign).
     channels: Vec<Vec<f64>>,
-    /// u_e: the rigid-body modes at the excitation.
-    input: Vec<f64>,
 }
 
-/// The best `count` placements of same-stiffness springs on the deck of
-/// `ctx` (a free-free deck with no spring to ground) for the test's low
-/// band, best first; none when the deck has no rigid-body modes or the band
-/// fewer than [`MIN_LOW_LINES`] lines.
-pub fn placements(ctx: &Context, low: &LowBand, count: usize) -> Vec<Placement> {
-    if !ctx.free_free {
+/// The best `count` placements of same-stiffness springs on `deck` (a
+/// free-free deck with no spring to ground) for the test's suspension
+/// modes, best first; none when the test shows none or the deck has no
+/// rigid-body modes.
+pub fn placements(
+    ctx: &Context,
+    data: &TestData,
+    test: &SuspensionModes,
+    count: usize,
+) -> Vec<Placement> {
+    if test.frequency_hz.is_empty() || !ctx.free_free {
         return Vec::new();
     }
-    let Some(rows) = rigid_rows(ctx, low.data) else {
-        return Vec::new();
-    };
-    let Some(band) = Band::new(ctx, low, rows.input.len()) else {
+    let Some(rows) = rigid_rows(ctx, data) else {
         return Vec::new();
     };
     let hard = prior::hard_points(ctx.deck);
     let mut all: Vec<Placement> = Vec::new();
     for (dof, nodes) in &rows.nodes {
-        let scale = nodes
-            .iter()
-            .map(|(_, u)| u.iter().map(|x| x * x).sum::<f64>())
-            .fold(0.0f64, f64::max)
-            .max(f64::MIN_POSITIVE);
-        let scorer = Scorer {
-            scale,
-            rows: &rows,
-            band: &band,
-            nodes,
-            dof: *dof,
-            hard: &hard,
-        };
-        let mut sets: Vec<Vec<usize>> = Vec::new();
+        let mut found: Vec<Placement> = Vec::new();
         for a in 0..nodes.len() {
-            sets.push(vec![a]);
+            found.extend(score(&rows, test, nodes, &[a], *dof, &hard));
             for b in a + 1..nodes.len() {
-                sets.push(vec![a, b]);
+                found.extend(score(&rows, test, nodes, &[a, b], *dof, &hard));
             }
         }
-        let mut found = scorer.score_all(&sets);
+        found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
         let pool = triple_pool(&found, nodes);
-        let mut triples: Vec<Vec<usize>> = Vec::new();
         for (i, &a) in pool.iter().enumerate() {
             for (j, &b) in pool.iter().enumerate().skip(i + 1) {
                 for &c in pool.iter().skip(j + 1) {
-                    triples.push(vec![a, b, c]);
+                    found.extend(score(&rows, test, nodes, &[a, b, c], *dof, &hard));
                 }
             }
         }
-        found.extend(scorer.score_all(&triples));
         all.extend(found);
     }
     all.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
@@ -218,8 +203,8 @@ fn tied_with_the_best(sorted: &[Placement], count: usize) -> usize {
     kept
 }
 
-/// Indices (into `nodes`) of the nodes of the best pairs of `found` (sorted
-/// best first), at most [`TRIPLE_POOL`], ascending.
+/// Indices (into `nodes`) of the nodes of the best pairs, at most
+/// [`TRIPLE_POOL`], ascending.
 fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)]) -> Vec<usize> {
     let mut pool: Vec<usize> = Vec::new();
     for p in found.iter().filter(|p| p.nodes.len() == 2) {
@@ -238,9 +223,8 @@ fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)]) -> Vec<usize> {
     pool
 }
 
-/// The rigid-body modes of `deck` at its beam nodes, at the channels and at
-/// the excitation; `None` if it has none (fixed, or on springs already) or
-/// cannot be solved.
+/// The rigid-body modes of `deck` at its beam nodes and at the channels;
+/// `None` if it has none (fixed, or on springs already) or cannot be solved.
 fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
     let deck = ctx.deck;
     let fe = model::build(deck, &ParameterValues::new()).ok()?;
@@ -270,11 +254,10 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
             .map(|&r| sign * modes.shapes[(eq, r)])
             .collect()
     };
-    let (input, in_sign) = fe.measured_dof(data.input.0, data.input.1)?;
     let mut channels = Vec::with_capacity(data.channels.len());
     for ch in &data.channels {
         let (eq, sign) = fe.measured_dof(ch.node, ch.direction)?;
-        channels.push(row(eq, sign * in_sign));
+        channels.push(row(eq, sign));
     }
     let beam_nodes = ctx.beam_nodes();
     let mut nodes = Vec::new();
@@ -295,340 +278,92 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
             nodes.push((deck_dof, rows));
         }
     }
-    Some(RigidRows {
-        nodes,
-        channels,
-        input: row(input, 1.0),
+    Some(RigidRows { nodes, channels })
+}
+
+/// The placement of springs at `pick` (indices into `nodes`), scored.
+fn score(
+    rows: &RigidRows,
+    test: &SuspensionModes,
+    nodes: &[(u32, Vec<f64>)],
+    pick: &[usize],
+    dof: DeckDof,
+    hard: &[u32],
+) -> Option<Placement> {
+    let nr = rows.channels.first()?.len();
+    let mut g = DMatrix::<f64>::zeros(nr, nr);
+    for &i in pick {
+        let u = &nodes[i].1;
+        for a in 0..nr {
+            for b in 0..nr {
+                g[(a, b)] += u[a] * u[b];
+            }
+        }
+    }
+    let eig = SymmetricEigen::new(g);
+    let mu_top = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(*v));
+    if !(mu_top > 0.0) {
+        return None;
+    }
+    // The modes the springs hold (μ > 0); their shapes at the channels.
+    let held: Vec<(f64, Vec<f64>)> = (0..nr)
+        .filter(|&i| eig.eigenvalues[i] > 1e-9 * mu_top)
+        .map(|i| {
+            let q = eig.eigenvectors.column(i);
+            let shape = rows
+                .channels
+                .iter()
+                .map(|u| (0..nr).map(|a| u[a] * q[a]).sum())
+                .collect();
+            (eig.eigenvalues[i], shape)
+        })
+        .collect();
+    let pairs = pair_by_mac(&test.shapes, &held);
+    if pairs.is_empty() {
+        return None;
+    }
+    let omega2 = |t: usize| (2.0 * std::f64::consts::PI * test.frequency_hz[t]).powi(2);
+    let ln_k = pairs
+        .iter()
+        .map(|&(t, i, _)| (omega2(t) / held[i].0).ln())
+        .sum::<f64>()
+        / pairs.len() as f64;
+    let mut s = (test.frequency_hz.len() - pairs.len()) as f64;
+    for &(t, i, mac) in &pairs {
+        let d = 0.5 * (omega2(t).ln() - ln_k - held[i].0.ln());
+        s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
+    }
+    s += PER_SPRING * (pick.len() - 1) as f64;
+    s += OFF_HARD_POINT
+        * pick
+            .iter()
+            .filter(|&&i| !hard.contains(&nodes[i].0))
+            .count() as f64;
+    let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
+    names.sort_unstable();
+    Some(Placement {
+        nodes: names,
+        dof,
+        k: ln_k.exp(),
+        score: s,
     })
 }
 
-/// One measured point of the low band.
-struct Point {
-    channel: usize,
-    weight: f64,
-    /// 1 / the measured value.
-    inv_measured: c64,
-    /// The deck's elastic modes and residual terms there, in the measured kind.
-    elastic: c64,
-}
-
-/// One line of the low band and its points.
-struct Line {
-    omega: f64,
-    /// (iω)ⁿ of the measured kind.
-    factor: c64,
-    points: Vec<Point>,
-}
-
-/// The low band prepared once per round.
-struct Band {
-    lines: Vec<Line>,
-    /// Points over all lines.
-    count: usize,
-    damping: Damping,
-    /// ω² bounds of the search over k: a quarter of the band's first line
-    /// and its top.
-    omega2_lo: f64,
-    omega2_hi: f64,
-}
-
-impl Band {
-    /// The low band's points and the model's elastic part there; `None`
-    /// when the model's rigid-body modes are not the `n_rigid` of its deck
-    /// or the band has fewer than [`MIN_LOW_LINES`] lines.
-    fn new(ctx: &Context, low: &LowBand, n_rigid: usize) -> Option<Band> {
-        let (data, mm) = (low.data, low.model);
-        let cut = SUSPENSION_BAND * ctx.first_elastic_omega;
-        let in_band: Vec<bool> = (0..data.omegas.len())
-            .map(|l| low.mask.lines[l] && data.omegas[l] > 0.0 && data.omegas[l] < cut)
-            .collect();
-        let used = informative(data, &in_band, &low.mask.channels);
-        if used.len() < MIN_LOW_LINES {
-            return None;
-        }
-        let in_band: Vec<bool> = (0..in_band.len())
-            .map(|l| used.binary_search(&l).is_ok())
-            .collect();
-        let top = mm.omega2.iter().fold(0.0f64, |a, w| a.max(w.abs()));
-        let elastic_modes: Vec<usize> = (0..mm.omega2.len())
-            .filter(|&r| mm.omega2[r].abs() > 1e-6 * top)
-            .collect();
-        if mm.omega2.len() - elastic_modes.len() != n_rigid {
-            return None;
-        }
-        let elastic = ModalModel {
-            omega2: elastic_modes.iter().map(|&r| mm.omega2[r]).collect(),
-            coeff: mm
-                .coeff
-                .iter()
-                .map(|a| elastic_modes.iter().map(|&r| a[r]).collect())
-                .collect(),
-            frequencies_hz: elastic_modes
-                .iter()
-                .map(|&r| mm.frequencies_hz[r])
-                .collect(),
-            ..mm.clone()
-        };
-        let mask = Mask {
-            lines: in_band,
-            channels: low.mask.channels.clone(),
-        };
-        let pred = fit::predict(&elastic, low.damping, data, &mask);
-        let lines: Vec<Line> = used
-            .iter()
-            .map(|&l| Line {
-                omega: data.omegas[l],
-                factor: crate::testdata::i_omega_power(data.omegas[l], data.kind.order()),
-                points: (0..data.channels.len())
-                    .filter(|&c| mask.channels[c] && data.weight[c][l] != 0.0)
-                    .map(|c| Point {
-                        channel: c,
-                        weight: data.weight[c][l],
-                        inv_measured: data.values[c][l].inv(),
-                        elastic: pred[c][l],
-                    })
-                    .collect(),
-            })
-            .collect();
-        let count = lines.iter().map(|l| l.points.len()).sum::<usize>();
-        if count == 0 {
-            return None;
-        }
-        Some(Band {
-            lines,
-            count,
-            damping: low.damping,
-            omega2_lo: (0.25 * data.omegas[used[0]]).powi(2),
-            omega2_hi: cut * cut,
-        })
-    }
-
-    /// Mean squared weighted log error of the springs' modes: eigenvalues
-    /// `lambda` (rad²/s²), coefficients `coeff[c][i]`. The modes' 1/d(ω)
-    /// once per line, for all its channels.
-    fn cost(&self, lambda: &[f64], coeff: &[Vec<f64>]) -> f64 {
-        let terms: Vec<_> = lambda.iter().map(|&l| self.damping.modal_term(l)).collect();
-        let mut g = vec![c64::new(0.0, 0.0); lambda.len()];
-        let mut sum = 0.0;
-        for line in &self.lines {
-            for ((gi, t), &l) in g.iter_mut().zip(&terms).zip(lambda) {
-                *gi = t.at(l, line.omega).inv() * line.factor;
-            }
-            for p in &line.points {
-                let mut h = p.elastic;
-                for (gi, &ai) in g.iter().zip(&coeff[p.channel]) {
-                    h += *gi * ai;
-                }
-                let (x, y) =
-                    fit::log_ratio(h * p.inv_measured).unwrap_or((10.0, std::f64::consts::PI));
-                sum += p.weight * p.weight * (x * x + y * y);
-            }
-        }
-        sum / (2 * self.count) as f64
-    }
-}
-
-/// Lines of a low band with more than this are thinned ([`informative`]).
-const MAX_LOW_LINES: usize = 48;
-/// Of a thinned band: lines of the even background, peaks kept and the
-/// lines kept on each side of a peak.
-const BACKGROUND_LINES: usize = 24;
-const PEAKS: usize = 4;
-const PEAK_SIDE: usize = 3;
-
-/// The lines of `in_band` scored (ascending): all of them, or when more
-/// than [`MAX_LOW_LINES`] (a log axis puts hundreds of lines below the
-/// first elastic mode), an even background and the neighbourhoods of the
-/// band's highest peaks of Σ_c |H_c| / max |H_c| (the suspension's
-/// resonances, where the placement is decided).
-fn informative(data: &TestData, in_band: &[bool], channels: &[bool]) -> Vec<usize> {
-    let band: Vec<usize> = (0..in_band.len()).filter(|&l| in_band[l]).collect();
-    if band.len() <= MAX_LOW_LINES {
-        return band;
-    }
-    let mut level = vec![0.0; band.len()];
-    for (c, values) in data.values.iter().enumerate() {
-        let top = band
-            .iter()
-            .map(|&l| values[l].norm())
-            .fold(0.0f64, f64::max);
-        if !channels[c] || !(top > 0.0) {
-            continue;
-        }
-        for (x, &l) in level.iter_mut().zip(&band) {
-            *x += values[l].norm() / top;
+/// Test modes paired with held modes, highest MAC first, each used once:
+/// (test index, held index, MAC).
+fn pair_by_mac(test: &[Vec<f64>], held: &[(f64, Vec<f64>)]) -> Vec<(usize, usize, f64)> {
+    let mut all: Vec<(usize, usize, f64)> = Vec::new();
+    for (t, a) in test.iter().enumerate() {
+        for (i, (_, b)) in held.iter().enumerate() {
+            all.push((t, i, mac(a, b)));
         }
     }
-    let mut peaks: Vec<usize> = (1..band.len() - 1)
-        .filter(|&i| level[i] > level[i - 1] && level[i] >= level[i + 1])
-        .collect();
-    peaks.sort_by(|&a, &b| level[b].total_cmp(&level[a]).then(a.cmp(&b)));
-    let mut kept: Vec<usize> = (0..BACKGROUND_LINES)
-        .map(|i| i * (band.len() - 1) / (BACKGROUND_LINES - 1))
-        .collect();
-    for &p in peaks.iter().take(PEAKS) {
-        kept.extend(p.saturating_sub(PEAK_SIDE)..(p + PEAK_SIDE + 1).min(band.len()));
-    }
-    kept.sort_unstable();
-    kept.dedup();
-    kept.into_iter().map(|i| band[i]).collect()
-}
-
-/// Scores sets of nodes of one direction.
-struct Scorer<'a> {
-    /// The largest |u_n|² of the direction (the scale of [`Self::key`]).
-    scale: f64,
-    rows: &'a RigidRows,
-    band: &'a Band,
-    nodes: &'a [(u32, Vec<f64>)],
-    dof: DeckDof,
-    hard: &'a [u32],
-}
-
-impl Scorer<'_> {
-    /// Every set of `sets` (indices into `nodes`) scored, best first; sets
-    /// alike in their rigid-body effect (the same G_S to rounding) fitted
-    /// once.
-    fn score_all(&self, sets: &[Vec<usize>]) -> Vec<Placement> {
-        let keys: Vec<Vec<i64>> = sets.iter().map(|s| self.key(s)).collect();
-        let mut unique: Vec<usize> = (0..sets.len()).collect();
-        unique.sort_by(|&a, &b| keys[a].cmp(&keys[b]).then(a.cmp(&b)));
-        unique.dedup_by(|a, b| keys[*a] == keys[*b]);
-        let fits: Vec<Option<(f64, f64)>> = unique
-            .par_iter()
-            .map(|&i| self.fit_k(&self.gram(&sets[i])))
-            .collect();
-        let by_key: HashMap<&Vec<i64>, Option<(f64, f64)>> =
-            unique.iter().map(|&i| &keys[i]).zip(fits).collect();
-        let mut found: Vec<Placement> = sets
-            .iter()
-            .zip(&keys)
-            .filter_map(|(s, key)| {
-                let (k, cost) = by_key.get(key).copied().flatten()?;
-                Some(self.placement(s, k, cost))
-            })
-            .collect();
-        found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
-        found
-    }
-
-    /// G_S = Σ_{n∈S} u_nᵀ u_n.
-    fn gram(&self, pick: &[usize]) -> DMatrix<f64> {
-        let nr = self.rows.input.len();
-        let mut g = DMatrix::<f64>::zeros(nr, nr);
-        for &i in pick {
-            let u = &self.nodes[i].1;
-            for a in 0..nr {
-                for b in 0..nr {
-                    g[(a, b)] += u[a] * u[b];
-                }
-            }
-        }
-        g
-    }
-
-    /// G_S's entries to 1e-9 of the largest |u_n|²: equal for sets alike in
-    /// their rigid-body effect.
-    fn key(&self, pick: &[usize]) -> Vec<i64> {
-        let g = self.gram(pick);
-        g.iter()
-            .map(|v| (v / self.scale * 1e9).round() as i64)
-            .collect()
-    }
-
-    /// k (N/m) and the low band's cost of springs with Gram matrix `g`: a
-    /// search over ln k that puts the highest held mode between a quarter of
-    /// the band's first line and its top, then golden-section steps about
-    /// the best point. `None` if the springs hold no mode.
-    fn fit_k(&self, g: &DMatrix<f64>) -> Option<(f64, f64)> {
-        let nr = g.nrows();
-        let eig = SymmetricEigen::new(g.clone());
-        let mu: Vec<f64> = eig.eigenvalues.iter().map(|m| m.max(0.0)).collect();
-        let mu_top = mu.iter().fold(0.0f64, |a, v| a.max(*v));
-        if !(mu_top > 0.0) {
-            return None;
-        }
-        let mu: Vec<f64> = mu
-            .iter()
-            .map(|&m| if m > 1e-9 * mu_top { m } else { 0.0 })
-            .collect();
-        // a_ci = (u_c q_i)(u_e q_i).
-        let dot = |u: &[f64], i: usize| {
-            (0..nr)
-                .map(|a| u[a] * eig.eigenvectors[(a, i)])
-                .sum::<f64>()
-        };
-        let at_input: Vec<f64> = (0..nr).map(|i| dot(&self.rows.input, i)).collect();
-        let coeff: Vec<Vec<f64>> = self
-            .rows
-            .channels
-            .iter()
-            .map(|u| (0..nr).map(|i| dot(u, i) * at_input[i]).collect())
-            .collect();
-        let cost = |ln_k: f64| {
-            let k = ln_k.exp();
-            let lambda: Vec<f64> = mu.iter().map(|m| k * m).collect();
-            self.band.cost(&lambda, &coeff)
-        };
-        let (lo, hi) = (
-            (self.band.omega2_lo / mu_top).ln(),
-            (self.band.omega2_hi / mu_top).ln(),
-        );
-        let step = (hi - lo) / (K_GRID - 1) as f64;
-        let grid: Vec<(f64, f64)> = (0..K_GRID)
-            .map(|i| {
-                let x = lo + step * i as f64;
-                (x, cost(x))
-            })
-            .collect();
-        let (x0, c0) = grid.iter().copied().min_by(|a, b| a.1.total_cmp(&b.1))?;
-        let (x, c) = golden_minimum(cost, x0 - step, x0 + step, (x0, c0));
-        Some((x.exp(), c))
-    }
-
-    fn placement(&self, pick: &[usize], k: f64, cost: f64) -> Placement {
-        let off = pick
-            .iter()
-            .filter(|&&i| !self.hard.contains(&self.nodes[i].0))
-            .count();
-        let mut names: Vec<u32> = pick.iter().map(|&i| self.nodes[i].0).collect();
-        names.sort_unstable();
-        Placement {
-            nodes: names,
-            dof: self.dof,
-            k,
-            score: cost.max(f64::MIN_POSITIVE).ln()
-                + PER_SPRING * (pick.len() - 1) as f64
-                + OFF_HARD_POINT * off as f64,
+    all.sort_by(|x, y| y.2.total_cmp(&x.2).then((x.0, x.1).cmp(&(y.0, y.1))));
+    let mut pairs: Vec<(usize, usize, f64)> = Vec::new();
+    for (t, i, m) in all {
+        if pairs.iter().all(|&(u, j, _)| u != t && j != i) {
+            pairs.push((t, i, m));
         }
     }
-}
-
-/// Golden-section steps for the minimum of `f` on [a, b], `best` a point
-/// already evaluated; the best point seen.
-fn golden_minimum(f: impl Fn(f64) -> f64, mut a: f64, mut b: f64, best: (f64, f64)) -> (f64, f64) {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    let mut best = best;
-    let mut x1 = b - r * (b - a);
-    let mut x2 = a + r * (b - a);
-    let (mut f1, mut f2) = (f(x1), f(x2));
-    for _ in 0..K_REFINE {
-        for (x, fx) in [(x1, f1), (x2, f2)] {
-            if fx < best.1 {
-                best = (x, fx);
-            }
-        }
-        if f1 <= f2 {
-            b = x2;
-            (x2, f2) = (x1, f1);
-            x1 = b - r * (b - a);
-            f1 = f(x1);
-        } else {
-            a = x1;
-            (x1, f1) = (x2, f2);
-            x2 = a + r * (b - a);
-            f2 = f(x2);
-        }
-    }
-    best
+    pairs
 }

@@ -3,10 +3,8 @@
 
 use crate::unit::updating_fullband_reduced::{accelerances, beam_text};
 use faer::c64;
-use frfup::diagnosis::fit::{modal_model, Mask};
 use frfup::diagnosis::hypotheses::{total_mass, Context};
 use frfup::diagnosis::suspension_placement::*;
-use frfup::model::Damping;
 use frfup::updating::fullband::data::TestData;
 use frfup_parsers::deck::{parse, Deck, DeckDof};
 
@@ -39,70 +37,43 @@ fn context(deck: &Deck) -> Context<'_> {
     }
 }
 
-/// The placement of `data` on the deck without springs, its damping ζ = 0.01
-/// as the data's.
-fn placed(data: &TestData, count: usize) -> Vec<Placement> {
-    let free = deck(false);
-    let model = modal_model(&free, data).unwrap();
-    let mask = Mask::all(data);
-    let low = LowBand {
-        data,
-        model: &model,
-        damping: Damping::Modal { zeta: 0.01 },
-        mask: &mask,
-    };
-    placements(&context(&free), &low, count)
-}
-
 /// A rigid uniform beam of mass m and length L on two springs k at its
-/// ends bounces at ω² = 2k/m (2.0 Hz here) and pitches at 6k/m (3.5 Hz).
-/// From FRFs simulated on those springs (0.05 Hz lines, the peaks 0.04 Hz
-/// wide; thinned to 48 lines about the peaks), the placement is the two
-/// ends and k comes back within the search's resolution (its last golden
-/// bracket is 0.011 wide in ln k here; measured 6e-4; the springs'
-/// coupling with the elastic modes, which the placement leaves out, is
-/// (2 Hz / 400 Hz)²). Every other set of the beam's nine nodes misses the
-/// bounce-to-pitch ratio √3 or the pitch's node and costs more than e⁵
-/// times as much (measured e⁷·⁸).
+/// ends bounces at ω² = 2k/m and pitches at ω² = 2k(L/2)²/(mL²/12) = 6k/m,
+/// with shapes 1 and x − L/2. Given those, the placement is the two ends
+/// and k comes back to rounding (the consistent mass matrix holds the rigid
+/// body's mass and inertia exactly).
 #[test]
-fn the_ends_and_k_from_frfs_simulated_on_springs() {
-    let data = test_data(&deck(true));
-    let placed = placed(&data, 3);
+fn the_ends_and_k_from_the_closed_form_rigid_body_modes() {
+    let free = deck(false);
+    let data = test_data(&free);
+    let m = 7850.0 * 1e-3 * 0.8;
+    let hz = |w2: f64| w2.sqrt() / (2.0 * std::f64::consts::PI);
+    let x = [0.1, 0.3, 0.5, 0.7, 0.8];
+    let test = SuspensionModes {
+        frequency_hz: vec![hz(2.0 * K / m), hz(6.0 * K / m)],
+        shapes: vec![vec![1.0; 5], x.iter().map(|x| x - 0.4).collect()],
+    };
+    let placed = placements(&context(&free), &data, &test, 3);
     let best = &placed[0];
     assert_eq!((best.nodes.clone(), best.dof), (vec![1, 9], DeckDof::Z));
-    assert!((best.k / K - 1.0).abs() < 6e-3, "k = {}", best.k);
-    assert!(
-        placed[1].score > best.score + 5.0,
-        "best {best:?}, runner-up {:?}",
-        placed[1]
-    );
+    assert!((best.k / K - 1.0).abs() < 1e-9, "k = {}", best.k);
+    // Nothing but the cost of the second spring (1e-3).
+    assert!((best.score - 1e-3).abs() < 1e-9, "score {}", best.score);
+    // Every other set misses the frequency ratio √3 or the pitch's node.
+    assert!(placed[1].score > 0.05, "runner-up {:?}", placed[1]);
 }
 
-/// Lines every 3 Hz from 3 Hz: the bounce (2.0 Hz) lies below the first
-/// line and the pitch (3.5 Hz, 0.07 Hz wide) between the first two, so the
-/// identification finds no suspension mode. Their mass and spring lines are
-/// still in the data, and the placement is still the ends, k within the
-/// search's resolution (a last bracket 0.0063 wide; measured 1.9e-3), the
-/// next set more than e² dearer (measured e³·⁶).
+/// End to end: the suspension modes identified from FRFs simulated on the
+/// springs (the elastic modes' coupling shifts them by ~(2 Hz / 400 Hz)²),
+/// then placed on the deck without them.
 #[test]
-fn suspension_modes_narrower_than_a_line_are_placed_from_the_frfs() {
-    let lines: Vec<f64> = (1..=60).map(|i| 3.0 * i as f64).collect();
-    let data = accelerances(
-        &deck(true),
-        lines,
-        9,
-        &[2, 4, 6, 8, 9],
-        0.01,
-        c64::new(1.0, 0.0),
-    );
-    let low: Vec<f64> = identified_modes(&data)
-        .iter()
-        .map(|m| m.frequency_hz)
-        .filter(|&f| f < 10.0)
-        .collect();
-    assert!(low.is_empty(), "identified {low:?}");
-    let placed = placed(&data, 3);
-    assert_eq!(placed[0].nodes, vec![1, 9], "{placed:?}");
-    assert!((placed[0].k / K - 1.0).abs() < 4e-3, "k = {}", placed[0].k);
-    assert!(placed[1].score > placed[0].score + 2.0, "{placed:?}");
+fn springs_at_the_ends_are_placed_from_simulated_frfs() {
+    let data = test_data(&deck(true));
+    let free = deck(false);
+    let test = test_suspension_modes(&data, &identified_modes(&data), 400.0);
+    assert_eq!(test.frequency_hz.len(), 2, "{:?}", test.frequency_hz);
+    let placed = placements(&context(&free), &data, &test, 3);
+    assert_eq!(placed[0].nodes, vec![1, 9]);
+    // The identification's frequencies (0.01 % here) set k to twice that.
+    assert!((placed[0].k / K - 1.0).abs() < 2e-3, "k = {}", placed[0].k);
 }
