@@ -14,12 +14,30 @@ use frfup::benchmark::effect::CLASSES;
 use frfup::benchmark::{
     case_seed, generate, generate_diagnosis, score_diagnosis, Case, DiagScore, GenOptions,
 };
-use frfup::diagnosis::{diagnose, DiagnoseOptions};
+use frfup::diagnosis::{diagnose, DiagnoseOptions, Diagnosis};
 use frfup::model::{self, ParameterValues};
-use frfup::parsers::deck;
+use frfup::parsers::deck::{self, Deck};
 use frfup::report::diagnosis::output::diagnosis_json;
 
 const MASTER_SEED: u64 = 17;
+
+/// Case `i` of the seed-1 benchmark set (`random_benchmark --diagnose
+/// --seed 1`, full-size options).
+fn full_case(i: u64) -> Case {
+    generate_diagnosis(case_seed(1, i), &GenOptions::diagnosis()).expect("generate")
+}
+
+/// `c` diagnosed in-process with the defaults: its deck, the diagnosis,
+/// diagnosis.json and the score.
+fn diagnose_case(c: &Case) -> (Deck, Diagnosis, serde_json::Value, DiagScore) {
+    let model = deck::parse(&c.model_deck).unwrap();
+    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
+    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
+    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
+    let json = diagnosis_json(&d);
+    let s = score_diagnosis(&c.truth_json(), &model, Some(&json));
+    (model, d, json, s)
+}
 
 fn case(i: u64) -> Case {
     generate_diagnosis(case_seed(MASTER_SEED, i), &GenOptions::small_diagnosis()).expect("generate")
@@ -110,14 +128,8 @@ fn diagnosis_subset() {
     let (mut right, mut false_cases, mut n, mut values) = (0, 0, 0, 0);
     for i in SUBSET {
         let c = case(i);
-        let model = deck::parse(&c.model_deck).unwrap();
-        let bytes = c.uff_bytes().unwrap();
-        let file = frfup::parsers::uff::parse(&bytes).unwrap();
-        let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
         let t_case = Instant::now();
-        let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-        let json = diagnosis_json(&d);
-        let s = score_diagnosis(&c.truth_json(), &model, Some(&json));
+        let (_, _, _, s) = diagnose_case(&c);
         println!(
             "case {i}: {} {} {} dofs {} truth {:?} reported {:?} right {} false {:?} ({:.1} s)",
             c.structure.name(),
@@ -174,11 +186,7 @@ fn shear_deformation_behind_parameter_errors() {
                 && !c.params.is_empty()
         })
         .expect("a shear-only case");
-    let model = deck::parse(&c.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
-    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-    let s = score_diagnosis(&c.truth_json(), &model, Some(&diagnosis_json(&d)));
+    let (_, d, _, s) = diagnose_case(&c);
     println!(
         "case {i}: reported {:?}, FRF error {}",
         s.reported, d.diagnosed.frf_error
@@ -197,13 +205,7 @@ fn shear_deformation_behind_parameter_errors() {
 /// in-process with the defaults: its score, diagnosis.json and the
 /// diagnosed model's FRF error (noise units).
 fn diagnosed(i: u64) -> (DiagScore, serde_json::Value, f64) {
-    let c = generate_diagnosis(case_seed(1, i), &GenOptions::diagnosis()).expect("generate");
-    let model = deck::parse(&c.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
-    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-    let json = diagnosis_json(&d);
-    let s = score_diagnosis(&c.truth_json(), &model, Some(&json));
+    let (_, d, json, s) = diagnose_case(&full_case(i));
     (s, json, d.diagnosed.frf_error)
 }
 
@@ -288,8 +290,7 @@ fn the_parameters_updated_after_a_finding_leave_nothing_to_stand_in_for_them() {
         .map(|r| r["round"].as_u64().unwrap())
         .collect();
     assert!(rounds.iter().all(|&r| r == 1), "{}", json["rejected"]);
-    let c = generate_diagnosis(case_seed(1, 28), &GenOptions::diagnosis()).unwrap();
-    for p in &c.params {
+    for p in &full_case(28).params {
         let reported = json["updated_parameters"][&p.name].as_f64().unwrap();
         assert!(
             (reported - p.value).abs() < 0.04,
@@ -393,12 +394,7 @@ fn a_roving_hammer_campaign_is_named_as_such_when_read() {
 /// best candidate of each class was refitted with the deck's parameters.
 #[test]
 fn a_sensor_mass_the_update_absorbed_is_found_at_its_sensor() {
-    let c = generate_diagnosis(case_seed(1, 96), &GenOptions::diagnosis()).unwrap();
-    let model = deck::parse(&c.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
-    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-    let s = score_diagnosis(&c.truth_json(), &model, Some(&diagnosis_json(&d)));
+    let (_, _, _, s) = diagnose_case(&full_case(96));
     assert_eq!(
         s.reported,
         vec![("sensor-mass".to_string(), vec![44])],
@@ -422,12 +418,8 @@ fn a_sensor_mass_the_update_absorbed_is_found_at_its_sensor() {
 /// the diagnosed FRF error 0.93 noise units, `k_susp` −13.04 %).
 #[test]
 fn the_parameters_are_updated_again_after_each_finding() {
-    let c = generate_diagnosis(case_seed(1, 85), &GenOptions::diagnosis()).unwrap();
-    let model = deck::parse(&c.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&c.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, Path::new("test.uff")).unwrap();
-    let d = diagnose(&model, &test, &DiagnoseOptions::default()).expect("diagnose runs");
-    let s = score_diagnosis(&c.truth_json(), &model, Some(&diagnosis_json(&d)));
+    let c = full_case(85);
+    let (model, d, _, s) = diagnose_case(&c);
     assert!(s.right(), "{:?}", s.reported);
     assert!(s.false_findings.is_empty(), "{:?}", s.false_findings);
     assert!(d.diagnosed.frf_error < 1.25, "{}", d.diagnosed.frf_error);
