@@ -88,7 +88,8 @@ fn screen_cost(engine: &Engine, base: &Deck, damp: &DampingState, h: &Hypothesis
         .min_by(|a, b| a.0.total_cmp(&b.0))?
         .1
         .clone();
-    let x = fit::lm(misfit, &best_start, &lo, &hi, SCREEN_ITERATIONS).map_or(best_start, |o| o.x);
+    let x = refit::frequency_fit(engine, &problem, &best_start, SCREEN_ITERATIONS)
+        .map_or(best_start, |o| o.x);
     profiled(&x)
 }
 

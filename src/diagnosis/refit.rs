@@ -25,9 +25,10 @@
 
 use frfup_parsers::deck::Deck;
 
-use crate::model::{self, ParameterValues};
+use crate::model::{self, FeModel, ParameterValues};
 use crate::updating::fullband::lm::{self, LeastSquares, LmSettings};
 use crate::updating::fullband::prior::ParameterPrior;
+use crate::updating::fullband::ritz::RitzBasis;
 use faer::Mat;
 
 use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
@@ -107,6 +108,34 @@ impl<'a> Joint<'a> {
 
     fn model(&self, engine: &Engine, x: &[f64]) -> Option<ModalModel> {
         engine.model(&self.deck_at(x)).ok()
+    }
+
+    /// [`Self::model`] and, when it was solved anew, its Ritz basis.
+    fn model_with_basis(
+        &self,
+        engine: &Engine,
+        x: &[f64],
+    ) -> Option<(ModalModel, Option<RitzBasis>)> {
+        engine.model_with_basis(&self.deck_at(x)).ok()
+    }
+
+    /// The FE model at x (not solved).
+    fn fe_at(&self, x: &[f64]) -> Option<FeModel> {
+        model::build(&self.deck_at(x), &ParameterValues::new()).ok()
+    }
+
+    /// The Ritz basis of the model at x ([`RitzBasis`]), for the
+    /// differences of a Jacobian. Not counted as work: the columns are, one
+    /// model solution each, as when each was solved in full.
+    fn ritz_at(&self, engine: &Engine, x: &[f64]) -> Option<RitzBasis> {
+        RitzBasis::at(&self.fe_at(x)?, engine.data).ok()
+    }
+
+    /// The modal model at x on `basis` (one model solution of work).
+    fn ritz_model(&self, engine: &Engine, basis: &RitzBasis, x: &[f64]) -> Option<ModalModel> {
+        let fe = self.fe_at(x)?;
+        engine.spend(fe.dofs.len().div_ceil(100).max(1));
+        basis.modal_model(&fe)
     }
 }
 
@@ -225,13 +254,9 @@ pub fn fit_joint(
         }
     }
     if freq_stage {
-        let freq = |x: &[f64]| -> Option<Vec<f64>> {
-            let mm = problem.model(engine, x)?;
-            Some(fit::frequency_residuals(&mm, data))
-        };
         ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (_, s) in ranked.into_iter().take(2) {
-            let Some(o) = fit::lm(&freq, &s, &lo, &hi, settings.iterations) else {
+            let Some(o) = frequency_fit(engine, problem, &s, settings.iterations) else {
                 continue;
             };
             if let Some((c, d)) = problem.model(engine, &o.x).as_ref().and_then(profile) {
@@ -336,25 +361,45 @@ struct FrfStage<'a, 'b> {
     prior_scale: f64,
     lo: Vec<f64>,
     hi: Vec<f64>,
-    cache: Option<(Vec<f64>, ModalModel)>,
+    /// The model at the last x asked for, and its Ritz basis when it was
+    /// solved anew for it.
+    cache: Option<(Vec<f64>, ModalModel, Option<RitzBasis>)>,
 }
 
 impl FrfStage<'_, '_> {
     fn model_at(&mut self, x: &[f64]) -> Option<&ModalModel> {
         let key = &x[..self.n];
-        if self.cache.as_ref().is_none_or(|(k, _)| k.as_slice() != key) {
-            let mm = self.problem.model(self.engine, key)?;
-            self.cache = Some((key.to_vec(), mm));
+        if self
+            .cache
+            .as_ref()
+            .is_none_or(|(k, _, _)| k.as_slice() != key)
+        {
+            let (mm, basis) = self.problem.model_with_basis(self.engine, key)?;
+            self.cache = Some((key.to_vec(), mm, basis));
         }
         Some(&self.cache.as_ref()?.1)
     }
-}
 
-impl LeastSquares for FrfStage<'_, '_> {
-    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+    /// The Ritz basis at x: kept from the model's solution at x, or solved.
+    fn basis_at(&mut self, x: &[f64]) -> Option<RitzBasis> {
+        let key = &x[..self.n];
+        match self.cache.as_mut() {
+            Some((k, _, basis)) if k.as_slice() == key && basis.is_some() => basis.take(),
+            _ => self.problem.ritz_at(self.engine, key),
+        }
+    }
+
+    /// The residuals at x of the model on `basis`.
+    fn ritz_residuals(&self, basis: &RitzBasis, x: &[f64]) -> Option<Vec<f64>> {
+        let mm = self.problem.ritz_model(self.engine, basis, &x[..self.n])?;
+        Some(self.residuals_of(&mm, x))
+    }
+
+    /// The weighted log residuals of `mm` with the damping of x, and the
+    /// prior rows of x's deck parameters.
+    fn residuals_of(&self, mm: &ModalModel, x: &[f64]) -> Vec<f64> {
         let (n, k, form, mask) = (self.n, self.k, self.form, self.mask);
         let data = self.engine.data;
-        let mm = self.model_at(x)?;
         let mut r = fit::residuals(
             &fit::predict(mm, form.damping(&x[n..]), data, mask),
             data,
@@ -362,7 +407,15 @@ impl LeastSquares for FrfStage<'_, '_> {
         );
         let priors = &self.problem.deck_priors;
         ParameterPrior::push_rows(priors, &x[k..n], self.prior_scale, &mut r);
-        Some(r)
+        r
+    }
+}
+
+impl LeastSquares for FrfStage<'_, '_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        self.model_at(x)?;
+        let mm = &self.cache.as_ref()?.1;
+        Some(self.residuals_of(mm, x))
     }
     fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
         let n = self.n;
@@ -372,8 +425,17 @@ impl LeastSquares for FrfStage<'_, '_> {
         let damping = fit::damping_jacobian(self.model_at(x)?, form, &x[n..], data, mask);
         let model_free: Vec<bool> = (0..x.len()).map(|i| i < n && free[i]).collect();
         let (lo, hi) = (self.lo.clone(), self.hi.clone());
-        let mut f = |y: &[f64]| self.residuals(y);
-        let mut jac = lm::forward_differences(&mut f, x, r, &lo, &hi, &model_free)?;
+        let mut jac = match self.basis_at(x) {
+            Some(basis) => {
+                let mut f = |y: &[f64]| self.ritz_residuals(&basis, y);
+                let r0 = f(x)?;
+                lm::forward_differences(&mut f, x, &r0, &lo, &hi, &model_free)?
+            }
+            None => {
+                let mut f = |y: &[f64]| self.residuals(y);
+                lm::forward_differences(&mut f, x, r, &lo, &hi, &model_free)?
+            }
+        };
         // Prior rows (after the data rows) do not depend on the damping.
         for j in (0..damping.ncols()).filter(|&j| free[n + j]) {
             for i in 0..damping.nrows() {
@@ -381,6 +443,74 @@ impl LeastSquares for FrfStage<'_, '_> {
             }
         }
         Some(jac)
+    }
+}
+
+/// Bounded Levenberg–Marquardt on `problem`'s resonance-frequency
+/// residuals ([`fit::frequency_residuals`]) from `start`, within the
+/// problem's bounds.
+pub fn frequency_fit(
+    engine: &Engine,
+    problem: &Joint,
+    start: &[f64],
+    iterations: usize,
+) -> Option<lm::LmOutcome> {
+    let (lo, hi) = problem.bounds();
+    let mut stage = FrequencyStage {
+        engine,
+        problem,
+        lo: lo.clone(),
+        hi: hi.clone(),
+        basis: None,
+    };
+    let settings = LmSettings {
+        max_iter: iterations,
+        ..LmSettings::default()
+    };
+    lm::lm(&mut stage, start, &lo, &hi, settings)
+}
+
+/// The resonance-frequency stage's least-squares problem over x
+/// ([`fit::frequency_residuals`]); its Jacobian by forward differences on
+/// the Ritz basis at x.
+struct FrequencyStage<'a, 'b> {
+    engine: &'a Engine<'a>,
+    problem: &'a Joint<'b>,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    /// The Ritz basis of the last x solved anew.
+    basis: Option<(Vec<f64>, RitzBasis)>,
+}
+
+impl LeastSquares for FrequencyStage<'_, '_> {
+    fn residuals(&mut self, x: &[f64]) -> Option<Vec<f64>> {
+        let (mm, basis) = self.problem.model_with_basis(self.engine, x)?;
+        if let Some(b) = basis {
+            self.basis = Some((x.to_vec(), b));
+        }
+        Some(fit::frequency_residuals(&mm, self.engine.data))
+    }
+    fn jacobian(&mut self, x: &[f64], r: &[f64], free: &[bool]) -> Option<Mat<f64>> {
+        let (engine, problem, data) = (self.engine, self.problem, self.engine.data);
+        let (lo, hi) = (self.lo.clone(), self.hi.clone());
+        let kept = match self.basis.take() {
+            Some((k, b)) if k.as_slice() == x => Some(b),
+            _ => None,
+        };
+        match kept.or_else(|| problem.ritz_at(engine, x)) {
+            Some(basis) => {
+                let mut f = |y: &[f64]| {
+                    let mm = problem.ritz_model(engine, &basis, y)?;
+                    Some(fit::frequency_residuals(&mm, data))
+                };
+                let r0 = f(x)?;
+                lm::forward_differences(&mut f, x, &r0, &lo, &hi, free)
+            }
+            None => {
+                let mut f = |y: &[f64]| self.residuals(y);
+                lm::forward_differences(&mut f, x, r, &lo, &hi, free)
+            }
+        }
     }
 }
 

@@ -21,6 +21,8 @@ use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
 use super::model_cache::ModelCache;
 use super::DiagnoseError;
+use crate::model::{self, ParameterValues};
+use crate::updating::fullband::ritz::RitzBasis;
 
 /// Fitted hypothesis (or the current model alone when `value` is `None` and
 /// the hypothesis has no parameter).
@@ -275,6 +277,25 @@ impl<'a> Engine<'a> {
         // and with it the search's course, does not depend on the cache.
         self.spend(mm.dofs.div_ceil(100).max(1));
         Ok(mm)
+    }
+
+    /// [`Self::model`], and when `deck` had to be solved, the Ritz basis of
+    /// that solution ([`RitzBasis`]) for a Jacobian at this point.
+    pub fn model_with_basis(
+        &self,
+        deck: &Deck,
+    ) -> Result<(ModalModel, Option<RitzBasis>), DiagnoseError> {
+        let kept = self.cache().get(deck);
+        if let Some(mm) = kept {
+            self.spend(mm.dofs.div_ceil(100).max(1));
+            return Ok((mm, None));
+        }
+        let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
+        let sol = fit::modal_solution(&fe, self.data)?;
+        let basis = RitzBasis::of_solution(&fe, &sol).ok();
+        self.cache().keep(deck, &sol.model);
+        self.spend(sol.model.dofs.div_ceil(100).max(1));
+        Ok((sol.model, basis))
     }
 
     /// Damping-profiled cost of `req`'s hypothesis at log-parameter `s` (or

@@ -19,6 +19,7 @@ pub mod lm;
 pub mod objective;
 pub mod prior;
 pub mod reduced;
+pub mod ritz;
 pub mod uncertainty;
 
 use std::fmt;

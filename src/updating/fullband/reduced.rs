@@ -242,7 +242,7 @@ fn built_model(
 
 /// K − σM factored, σ = −1e-8 of the largest K_ii/M_ii (positive definite
 /// with rigid-body modes).
-fn shifted_cholesky(fe: &crate::model::FeModel) -> Result<ShiftedCholesky, FitError> {
+pub(super) fn shifted_cholesky(fe: &crate::model::FeModel) -> Result<ShiftedCholesky, FitError> {
     let (k, m) = (&fe.stiffness, &fe.mass);
     let eig_err = |e: String| FitError::Eigen(e);
     let scale = eigen::pencil_scale(k, m).map_err(|e| eig_err(e.to_string()))?;
@@ -289,7 +289,7 @@ fn rayleigh_ritz(fe: &crate::model::FeModel, x: &mut Mat<f64>, count: usize) -> 
 }
 
 /// Every mode of `fe` (a small model).
-fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
+pub(super) fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
     let opts = eigen::EigenOptions {
         count: fe.dofs.len(),
         expect_no_rigid_body_modes: fe.has_fixed_dofs,
@@ -300,7 +300,7 @@ fn all_modes(fe: &crate::model::FeModel) -> Result<eigen::Modes, FitError> {
 
 /// scale·TᵀST for a sparse symmetric S: only the rows of T where S has
 /// entries take part (a parameter's ∂K touches a few elements).
-fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
+pub(super) fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
     let sym = s.symbolic();
     let mut support: Vec<usize> = (0..s.ncols())
         .flat_map(|c| sym.row_idx_of_col_raw(c).iter().copied())
@@ -357,7 +357,7 @@ fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f64> {
 /// the symmetric C = L⁻¹KL⁻ᵀ, ψ = L⁻ᵀ(eigenvectors of C): ascending λ,
 /// M-orthonormal ψ. `None` if M is not positive definite or a λ is not
 /// finite.
-fn pencil_eigen(k: Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
+pub(super) fn pencil_eigen(k: Mat<f64>, m: &Mat<f64>) -> Option<(Vec<f64>, Mat<f64>)> {
     use faer::linalg::triangular_solve::{
         solve_lower_triangular_in_place, solve_upper_triangular_in_place,
     };
@@ -380,7 +380,7 @@ fn symmetrise(a: Mat<f64>) -> Mat<f64> {
 }
 
 /// T = [Φ | S] with S the M-orthonormal static block (see the module doc).
-fn ritz_basis(
+pub(super) fn ritz_basis(
     m: &SparseMatrix,
     phi: &Mat<f64>,
     place: &fit::Placement,

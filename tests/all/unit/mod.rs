@@ -47,6 +47,7 @@ mod updating_fullband_jacobian;
 mod updating_fullband_lines;
 mod updating_fullband_lm;
 mod updating_fullband_reduced;
+mod updating_fullband_ritz;
 mod updating_identify;
 mod updating_model_states;
 mod updating_options;
