@@ -69,7 +69,7 @@ pub fn damping_jacobian(
             let h = f * stat + c64::new(sums[(i, k)], sums[(nl + i, k)]);
             let hm = h * crate::testdata::i_omega_power(w, data.kind.order());
             // The fixed penalty of fit::residuals does not depend on x.
-            if fit::log_ratio(hm / data.values[c][l]).is_none() {
+            if !fit::has_log_ratio(hm / data.values[c][l]) {
                 row += 2;
                 continue;
             }

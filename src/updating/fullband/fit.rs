@@ -320,6 +320,13 @@ pub fn log_ratio(ratio: c64) -> Option<(f64, f64)> {
     }
 }
 
+/// Whether [`log_ratio`] of `ratio` is defined (finite and not zero),
+/// without the logarithm: the same conditions, in the same order.
+pub fn has_log_ratio(ratio: c64) -> bool {
+    ratio.norm_sqr().is_normal()
+        || (ratio.re.is_finite() && ratio.im.is_finite() && ratio.norm() > 0.0)
+}
+
 /// Noise-level cost J0 of a mask: mean expected squared residual from noise.
 pub fn noise_level(data: &TestData, mask: &Mask) -> f64 {
     let mut s = 0.0;

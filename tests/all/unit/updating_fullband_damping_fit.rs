@@ -102,3 +102,25 @@ fn fit_damping_recovers_the_modal_damping_of_direct_accelerances() {
         .len()
     );
 }
+
+/// `has_log_ratio` is `log_ratio(..).is_some()` without the logarithm, on
+/// ordinary, tiny (subnormal |z|²), huge (|z|² overflowing), zero and
+/// non-finite ratios.
+#[test]
+fn has_log_ratio_is_whether_the_log_ratio_is_defined() {
+    use frfup::updating::fullband::fit::{has_log_ratio, log_ratio};
+    let values = [
+        c64::new(1.5, -0.2),
+        c64::new(1e-170, 0.0),
+        c64::new(0.0, 1e-200),
+        c64::new(1e200, -1e200),
+        c64::new(0.0, 0.0),
+        c64::new(f64::NAN, 1.0),
+        c64::new(1.0, f64::INFINITY),
+        c64::new(f64::MIN_POSITIVE, 0.0),
+    ];
+    let defined: Vec<bool> = values.iter().map(|&z| has_log_ratio(z)).collect();
+    let expected: Vec<bool> = values.iter().map(|&z| log_ratio(z).is_some()).collect();
+    assert_eq!(defined, expected);
+    assert_eq!(defined, [true, true, true, true, false, false, false, true]);
+}
