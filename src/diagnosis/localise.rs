@@ -3,7 +3,9 @@
 //! residual and Δr the change the probe makes, moving along Δr can lower
 //! |r|² by at most (r₀·Δr)²/|Δr|² (only for r₀·Δr < 0, a physical step).
 //! That fraction of |r₀|² is the candidate's score; node scores (the best
-//! candidate at each node) say where the model disagrees.
+//! candidate at each node) say where the model disagrees. Candidates that
+//! keep the deck's DOFs are probed on one Ritz basis of the deck
+//! ([`RitzProbe`]), the others solved in full.
 //!
 //! The deck's own parameters compete on equal terms: their residual
 //! changes span a subspace P, and r₀ and every Δr are projected onto its
@@ -18,6 +20,8 @@ use rayon::prelude::*;
 use super::data::TestData;
 use super::fit::{self, DampingState, Mask, ModalModel};
 use super::hypotheses::Hypothesis;
+use crate::model::{self, ParameterValues};
+use crate::updating::fullband::ritz::RitzBasis;
 
 /// Residual change of one probed candidate.
 pub struct Probe {
@@ -96,16 +100,23 @@ pub fn probe(
     let mask = Mask::all(data);
     let r0p = project_out(r0, basis);
     let n0: f64 = dot(&r0p, &r0p).max(1e-300);
+    let ritz = RitzProbe::of(base, damping, data, &mask);
     candidates
         .par_iter()
         .enumerate()
         .map(|(index, h)| {
             let value = h.param.as_ref().map(|p| p.probe);
             let deck = h.apply(base, value);
-            let delta = match fit::modal_model(&deck, data) {
-                Ok(mm) => residual_change(&mm, damping, data, &mask, r0),
-                Err(_) => Vec::new(),
-            };
+            let fe = model::build(&deck, &ParameterValues::new()).ok();
+            let on_basis = ritz.as_ref().zip(fe.as_ref()).and_then(|(rp, fe)| {
+                let mm = rp.basis.modal_model(fe)?;
+                Some(residual_change(&mm, damping, data, &mask, &rp.r0))
+            });
+            let delta =
+                on_basis.unwrap_or_else(|| match fe.map(|fe| fit::modal_solution(&fe, data)) {
+                    Some(Ok(sol)) => residual_change(&sol.model, damping, data, &mask, r0),
+                    _ => Vec::new(),
+                });
             let delta = project_out(&delta, basis);
             let score = reduction(&r0p, &delta) / n0;
             Probe {
@@ -115,6 +126,28 @@ pub fn probe(
             }
         })
         .collect()
+}
+
+/// The base deck's Ritz basis ([`RitzBasis`]) and its residual on that
+/// basis: a candidate that keeps the base's DOFs (a mass, a grounded spring
+/// on a free DOF) is probed on the basis, its Δr taken against the base's
+/// own residual there, like with like. One eigen solution for all of them
+/// instead of one each; a candidate with other DOFs (a joint's new node, a
+/// support unfixed) is solved in full.
+struct RitzProbe {
+    basis: RitzBasis,
+    r0: Vec<f64>,
+}
+
+impl RitzProbe {
+    fn of(base: &Deck, damping: &DampingState, data: &TestData, mask: &Mask) -> Option<Self> {
+        let fe = model::build(base, &ParameterValues::new()).ok()?;
+        let basis = RitzBasis::at(&fe, data).ok()?;
+        let mm = basis.modal_model(&fe)?;
+        let pred = fit::predict(&mm, damping.damping(), data, mask);
+        let r0 = fit::residuals(&pred, data, mask);
+        Some(RitzProbe { basis, r0 })
+    }
 }
 
 fn residual_change(

@@ -6,6 +6,7 @@ mod batch_campaign;
 mod benchmark_score_diagnosis;
 mod diagnosis_discriminate;
 mod diagnosis_folds;
+mod diagnosis_localise;
 mod diagnosis_model_cache;
 mod diagnosis_prior;
 mod diagnosis_suspension_placement;
