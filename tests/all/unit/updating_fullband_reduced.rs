@@ -44,6 +44,20 @@ pub fn beam() -> (Deck, TestData) {
     (deck, data)
 }
 
+/// A 41-node beam (123 DOFs: more than the band's modes, so a Ritz basis
+/// has a static block) on soft springs at its ends, modal damping 0.02,
+/// with the deck lines `extra`; accelerances at z of nodes 5, 13, 27, 41
+/// for a force at 41 z, 1.5–600 Hz.
+pub fn long_beam(extra: &str) -> (Deck, TestData) {
+    let mut text = beam_text_of(41);
+    text += "spring 1 1 z k=500\nspring 2 41 z k=500\ndamping modal 0.02\n";
+    text += extra;
+    let deck = parse(&text).unwrap();
+    let lines: Vec<f64> = (1..=400).map(|i| i as f64 * 1.5).collect();
+    let data = accelerances(&deck, lines, 41, &[5, 13, 27, 41], 0.02, c64::new(1.0, 0.0));
+    (deck, data)
+}
+
 /// Accelerances of `deck` (direct solution, modal damping `zeta`) at z of
 /// `nodes` for a force at z of `input`, times `factor`, as test data.
 pub fn accelerances(
@@ -137,12 +151,7 @@ fn largest_relative_difference(a: &[Vec<c64>], b: &[Vec<c64>]) -> f64 {
 fn a_moved_reduced_model_matches_a_new_anchor() {
     // 41 nodes (123 DOFs): more than the band's modes, so the basis has a
     // static block and `moved` does not fall back to a new solution.
-    let mut text = beam_text_of(41);
-    text += "spring 1 1 z k=500\nspring 2 41 z k=500\ndamping modal 0.02\n";
-    text += "param left E 1-20\nparam right Iy 21-40\nparam sup k 1-2\n";
-    let deck = parse(&text).unwrap();
-    let lines: Vec<f64> = (1..=400).map(|i| i as f64 * 1.5).collect();
-    let data = accelerances(&deck, lines, 41, &[5, 13, 27, 41], 0.02, c64::new(1.0, 0.0));
+    let (deck, data) = long_beam("param left E 1-20\nparam right Iy 21-40\nparam sup k 1-2\n");
     let names = model::parameter_names(&deck);
     let (p0, p) = ([0.0, 0.0, 0.0], [0.2, -0.1, 0.15]);
     let old = ReducedModel::new(&deck, &names, &p0, &data).unwrap();

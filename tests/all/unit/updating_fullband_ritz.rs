@@ -1,23 +1,16 @@
 //! Unit tests of `src/updating/fullband/ritz.rs` through its public interface.
 
-use faer::c64;
 use frfup::model::{self, ParameterValues};
 use frfup::updating::fullband::fit::{self, ModalModel};
 use frfup::updating::fullband::ritz::RitzBasis;
 use frfup_parsers::deck::{parse, Deck};
 
-use super::updating_fullband_reduced::{accelerances, beam_text_of};
+use super::updating_fullband_reduced::{beam_text_of, long_beam};
 
-/// A 41-node beam on soft springs (123 DOFs, more than the band's modes:
-/// the basis has a static block), a tip mass, four channels.
+/// The long beam of the reduced model's tests with a tip mass and four
+/// parameters.
 fn beam() -> (Deck, frfup::updating::fullband::data::TestData) {
-    let mut text = beam_text_of(41);
-    text += "mass 1 41 m=0.3\nspring 1 1 z k=500\nspring 2 41 z k=500\ndamping modal 0.02\n";
-    text += "param left E 1-20\nparam right Iy 21-40\nparam tip m 1\nparam sup k 1-2\n";
-    let deck = parse(&text).unwrap();
-    let lines: Vec<f64> = (1..=400).map(|i| i as f64 * 1.5).collect();
-    let data = accelerances(&deck, lines, 41, &[5, 13, 27, 41], 0.02, c64::new(1.0, 0.0));
-    (deck, data)
+    long_beam("mass 1 41 m=0.3\nparam left E 1-20\nparam right Iy 21-40\nparam tip m 1\nparam sup k 1-2\n")
 }
 
 fn built(deck: &Deck, p: &[f64]) -> model::FeModel {
