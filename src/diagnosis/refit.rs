@@ -134,7 +134,7 @@ impl<'a> Joint<'a> {
     /// The modal model at x on `basis` (one model solution of work).
     fn ritz_model(&self, engine: &Engine, basis: &RitzBasis, x: &[f64]) -> Option<ModalModel> {
         let fe = self.fe_at(x)?;
-        engine.spend(fe.dofs.len().div_ceil(100).max(1));
+        engine.spend_solution(fe.dofs.len());
         basis.modal_model(&fe)
     }
 }

@@ -261,6 +261,12 @@ impl<'a> Engine<'a> {
         self.evaluations.fetch_add(units, Ordering::Relaxed);
     }
 
+    /// Count one model solution of a model with `dofs` DOFs: one unit per
+    /// 100 DOFs begun.
+    pub fn spend_solution(&self, dofs: usize) {
+        self.spend(dofs.div_ceil(100).max(1));
+    }
+
     /// The modal model of `deck` (solved, or kept from an earlier call).
     pub fn model(&self, deck: &Deck) -> Result<ModalModel, DiagnoseError> {
         let kept = self.cache().get(deck);
@@ -275,7 +281,7 @@ impl<'a> Engine<'a> {
         // Work units: one per model solution asked for, more for models
         // above 100 DOFs. A kept model counts as well, so that the budget,
         // and with it the search's course, does not depend on the cache.
-        self.spend(mm.dofs.div_ceil(100).max(1));
+        self.spend_solution(mm.dofs);
         Ok(mm)
     }
 
@@ -287,14 +293,14 @@ impl<'a> Engine<'a> {
     ) -> Result<(ModalModel, Option<RitzBasis>), DiagnoseError> {
         let kept = self.cache().get(deck);
         if let Some(mm) = kept {
-            self.spend(mm.dofs.div_ceil(100).max(1));
+            self.spend_solution(mm.dofs);
             return Ok((mm, None));
         }
         let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
         let sol = fit::modal_solution(&fe, self.data)?;
         let basis = RitzBasis::of_solution(&fe, &sol).ok();
         self.cache().keep(deck, &sol.model);
-        self.spend(sol.model.dofs.div_ceil(100).max(1));
+        self.spend_solution(sol.model.dofs);
         Ok((sol.model, basis))
     }
 

@@ -27,6 +27,7 @@ use frfup_parsers::deck::Deck;
 
 use super::data::TestData;
 use super::fit::{self, ModalModel};
+use super::ritz::RitzBasis;
 use super::FitError;
 use crate::model::{self, ParameterValues, SparseMatrix};
 use crate::solvers::dense::{cholesky_lower, product, symmetric_eigen};
@@ -42,15 +43,10 @@ pub struct ReducedModel {
     /// zero, as for every stiffness property).
     dk: Vec<Mat<f64>>,
     dm: Vec<Option<Mat<f64>>>,
-    /// Rows of T at each channel's DOF (times the channel's sign), then at
-    /// the excitation: (channels + 1) × m.
-    rows: Mat<f64>,
     /// DOFs of the full model.
     dofs: usize,
-    /// Columns of Φ in the basis.
-    band_modes: usize,
-    /// T (n × m).
-    basis: Mat<f64>,
+    /// T, its rows at the channels and the excitation, the columns of Φ.
+    ritz: RitzBasis,
 }
 
 /// The eigen solution of the reduced pencil at some p̄.
@@ -73,19 +69,8 @@ impl ReducedModel {
     ) -> Result<ReducedModel, FitError> {
         let fe = built_model(deck, names, p)?;
         let place = fit::placement(&fe, data)?;
-        let mut modes = fit::band_modes(&fe, data)?;
-        let n = fe.dofs.len();
-        if modes.len() < n && modes.len() + place.outputs.len() + 2 >= n {
-            // The static block would fill (nearly) all that the modes leave:
-            // every mode is cheaper and exact.
-            modes = all_modes(&fe)?;
-        }
-        let chol = if modes.shapes.ncols() < n {
-            Some(shifted_cholesky(&fe)?)
-        } else {
-            None
-        };
-        ReducedModel::on_modes(&fe, p, &modes.shapes, &place, chol.as_ref())
+        let ritz = RitzBasis::on_modes(&fe, fit::band_modes(&fe, data)?, &place)?;
+        Ok(ReducedModel::on_basis(&fe, p, ritz))
     }
 
     /// The reduced model moved to p̄ = `p` from the one it leaves, whose
@@ -106,45 +91,27 @@ impl ReducedModel {
     ) -> Result<ReducedModel, FitError> {
         let fe = built_model(deck, names, p)?;
         let n = fe.dofs.len();
-        if self.band_modes >= n || fe.dofs.len() != self.dofs {
+        if self.ritz.band_modes >= n || fe.dofs.len() != self.dofs {
             return ReducedModel::new(deck, names, p, data);
         }
         let place = fit::placement(&fe, data)?;
         let chol = shifted_cholesky(&fe)?;
-        let ritz = product(self.basis.as_ref(), at_p.shapes.as_ref());
+        let ritz = product(self.ritz.basis.as_ref(), at_p.shapes.as_ref());
         let mut x = chol.solve(sparse_times(&fe.mass, ritz.as_ref()).as_ref());
-        let Some(phi) = rayleigh_ritz(&fe, &mut x, self.band_modes) else {
+        let Some(phi) = rayleigh_ritz(&fe, &mut x, self.ritz.band_modes) else {
             return ReducedModel::new(deck, names, p, data);
         };
-        ReducedModel::on_modes(&fe, p, &phi, &place, Some(&chol))
+        let ritz = RitzBasis::on_shapes(&fe, &phi, &place, Some(&chol))?;
+        Ok(ReducedModel::on_basis(&fe, p, ritz))
     }
 
-    /// The reduced model on the basis [Φ | S] at p̄ = `p`.
-    fn on_modes(
-        fe: &crate::model::FeModel,
-        p: &[f64],
-        phi: &Mat<f64>,
-        place: &fit::Placement,
-        chol: Option<&ShiftedCholesky>,
-    ) -> Result<ReducedModel, FitError> {
-        let basis = match chol {
-            Some(chol) => ritz_basis(&fe.mass, phi, place, chol)?,
-            None => phi.clone(),
-        };
-        let project = |s: &SparseMatrix, scale: f64| project(s, basis.as_ref(), scale);
+    /// The reduced model on the basis `ritz` ([Φ | S]) of `fe` at p̄ = `p`.
+    fn on_basis(fe: &crate::model::FeModel, p: &[f64], ritz: RitzBasis) -> ReducedModel {
+        let project = |s: &SparseMatrix, scale: f64| project(s, ritz.basis.as_ref(), scale);
         // ∂K/∂p̄ = ∂K/∂q · ∂q/∂p̄ with q the relative change of the deck as
         // built: (1 + q) = (1 + p̄)/(1 + p̄ₐ).
         let chain: Vec<f64> = p.iter().map(|v| 1.0 / (1.0 + v)).collect();
-        let mut rows = Mat::<f64>::zeros(place.outputs.len() + 1, basis.ncols());
-        for (c, &eq) in place.outputs.iter().enumerate() {
-            for r in 0..basis.ncols() {
-                rows[(c, r)] = place.signs[c] * basis[(eq, r)];
-            }
-        }
-        for r in 0..basis.ncols() {
-            rows[(place.outputs.len(), r)] = basis[(place.input, r)];
-        }
-        Ok(ReducedModel {
+        ReducedModel {
             anchor: p.to_vec(),
             k: project(&fe.stiffness, 1.0),
             m: project(&fe.mass, 1.0),
@@ -160,11 +127,9 @@ impl ReducedModel {
                 .zip(&chain)
                 .map(|(q, &c)| (q.dm.compute_nnz() > 0).then(|| project(&q.dm, c)))
                 .collect(),
-            rows,
             dofs: fe.dofs.len(),
-            band_modes: phi.ncols(),
-            basis,
-        })
+            ritz,
+        }
     }
 
     /// Number of basis vectors m.
@@ -201,7 +166,7 @@ impl ReducedModel {
             }
         }
         let (omega2, shapes) = pencil_eigen(k, &m)?;
-        let at_dofs = product(self.rows.as_ref(), shapes.as_ref());
+        let at_dofs = product(self.ritz.rows.as_ref(), shapes.as_ref());
         let nc = at_dofs.nrows() - 1;
         let coeff = (0..nc)
             .map(|c| {

@@ -24,17 +24,18 @@ use super::reduced::{all_modes, pencil_eigen, project, ritz_basis, shifted_chole
 use super::FitError;
 use crate::model::FeModel;
 use crate::solvers::dense::product;
+use crate::solvers::eigen::lanczos::ShiftedCholesky;
 use crate::solvers::eigen::Modes;
 
 /// The Ritz basis of one FE model, and where the test sits on it.
 pub struct RitzBasis {
     /// T (n × m).
-    basis: Mat<f64>,
+    pub(super) basis: Mat<f64>,
     /// Rows of T at each channel's DOF (times the channel's sign), then at
     /// the excitation: (channels + 1) × m.
-    rows: Mat<f64>,
+    pub(super) rows: Mat<f64>,
     /// Columns of Φ in T: the modes kept as modes.
-    band_modes: usize,
+    pub(super) band_modes: usize,
     /// The DOF numbering the basis belongs to.
     equations: Vec<(u32, crate::model::Dof)>,
 }
@@ -57,18 +58,37 @@ impl RitzBasis {
         RitzBasis::on_modes(fe, sol.modes.clone(), &place)
     }
 
-    /// The basis on the band's modes `modes` of `fe`.
-    fn on_modes(fe: &FeModel, mut modes: Modes, place: &Placement) -> Result<RitzBasis, FitError> {
+    /// The basis on the band's modes `modes` of `fe` (every mode instead
+    /// when the static block would fill nearly all that they leave: that
+    /// is cheaper and exact).
+    pub(super) fn on_modes(
+        fe: &FeModel,
+        mut modes: Modes,
+        place: &Placement,
+    ) -> Result<RitzBasis, FitError> {
         let n = fe.dofs.len();
         if modes.len() < n && modes.len() + place.outputs.len() + 2 >= n {
-            // The static block would fill (nearly) all that the modes
-            // leave: every mode is cheaper and exact.
             modes = all_modes(fe)?;
         }
-        let basis = if modes.len() < n {
-            ritz_basis(&fe.mass, &modes.shapes, place, &shifted_cholesky(fe)?)?
+        let chol = if modes.len() < n {
+            Some(shifted_cholesky(fe)?)
         } else {
-            modes.shapes.clone()
+            None
+        };
+        RitzBasis::on_shapes(fe, &modes.shapes, place, chol.as_ref())
+    }
+
+    /// T = [Φ | S] on the M-orthonormal mode shapes `phi` of `fe` (with
+    /// `chol`, K − σM factored, the static block S; without, Φ alone).
+    pub(super) fn on_shapes(
+        fe: &FeModel,
+        phi: &Mat<f64>,
+        place: &Placement,
+        chol: Option<&ShiftedCholesky>,
+    ) -> Result<RitzBasis, FitError> {
+        let basis = match chol {
+            Some(chol) => ritz_basis(&fe.mass, phi, place, chol)?,
+            None => phi.clone(),
         };
         let nc = place.outputs.len();
         let rows = Mat::from_fn(nc + 1, basis.ncols(), |c, r| {
@@ -81,7 +101,7 @@ impl RitzBasis {
         Ok(RitzBasis {
             basis,
             rows,
-            band_modes: modes.len(),
+            band_modes: phi.ncols(),
             equations: fe.dofs.equations.clone(),
         })
     }
