@@ -354,7 +354,9 @@ fn choose_suspension_springs(
 }
 
 /// The suspension spring sets whose rigid-body modes on springs match the
-/// test's suspension modes in frequency ratio and shape, added to `chosen`;
+/// test's suspension modes in frequency ratio and shape (or, when the pole
+/// fit finds no suspension mode, lines too coarse, those that fit the
+/// test's band below the first elastic mode best), added to `chosen`;
 /// their labels (they are refitted with the deck's parameters: the
 /// placement is evidence of its own, and a deck distorted by an update
 /// that lacked the springs fits them badly).
@@ -362,11 +364,21 @@ fn placed_suspension(engine: &Engine, cur: &Current, chosen: &mut Vec<Hypothesis
     let first_hz = cur.ctx.first_elastic_omega / (2.0 * std::f64::consts::PI);
     let test =
         suspension_placement::test_suspension_modes(engine.data, engine.test_modes(), first_hz);
-    let placed = suspension_placement::placements(&cur.ctx, engine.data, &test, PLACED_SETS);
+    let placed = if test.frequency_hz.is_empty() {
+        suspension_placement::low_band_placements(
+            &cur.ctx,
+            engine.data,
+            cur.damp.damping(),
+            &engine.all,
+            PLACED_SETS,
+        )
+    } else {
+        suspension_placement::placements(&cur.ctx, engine.data, &test, PLACED_SETS)
+    };
     let mut labels = Vec::new();
     for p in placed {
         let h = hypotheses::springs::suspension(&cur.ctx, p.nodes, p.dof);
-        if cur.used.contains(&h.label) {
+        if cur.used.contains(&h.label) || labels.contains(&h.label) {
             continue;
         }
         labels.push(h.label.clone());

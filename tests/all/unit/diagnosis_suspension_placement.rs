@@ -1,4 +1,4 @@
-//! Unit tests of `src/diagnosis/suspension_placement.rs` through its public
+//! Unit tests of `src/diagnosis/suspension_placement/` through its public
 //! interface.
 
 use crate::unit::updating_fullband_reduced::{accelerances, beam_text};
@@ -76,4 +76,58 @@ fn springs_at_the_ends_are_placed_from_simulated_frfs() {
     assert_eq!(placed[0].nodes, vec![1, 9]);
     // The identification's frequencies (0.01 % here) set k to twice that.
     assert!((placed[0].k / K - 1.0).abs() < 2e-3, "k = {}", placed[0].k);
+}
+
+/// Lines 1.5 Hz apart from 1.5 Hz (the suspension modes, bounce 2.0 Hz and
+/// pitch 3.5 Hz, fall between the first three lines: no pole fit resolves
+/// them): the low band alone places the springs at the two ends. k comes
+/// from a grid and 24 golden-section steps on ln k (resolution 1e-5 of two
+/// grid steps); the data are exact but for the elastic modes' coupling, of
+/// order (3.5 Hz / 400 Hz)² ≈ 1e-4 in ω²: within 1e-3.
+#[test]
+fn springs_at_the_ends_are_placed_from_the_low_band_alone() {
+    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
+    let data = accelerances(
+        &deck(true),
+        lines,
+        9,
+        &[2, 4, 6, 8, 9],
+        0.01,
+        c64::new(1.0, 0.0),
+    );
+    let free = deck(false);
+    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
+    let mask = frfup::updating::fullband::fit::Mask::all(&data);
+    let placed = low_band_placements(&context(&free), &data, damping, &mask, 3);
+    assert_eq!(
+        (placed[0].nodes.clone(), placed[0].dof),
+        (vec![1, 9], DeckDof::Z),
+        "{placed:?}"
+    );
+    assert!((placed[0].k / K - 1.0).abs() < 1e-3, "k = {}", placed[0].k);
+    // Springs one node in from the ends hold the same two modes at other
+    // frequency ratios: their misfit is far larger.
+    let inner = placed.iter().find(|p| p.nodes != vec![1, 9]).unwrap();
+    assert!(
+        inner.score > 10.0 * placed[0].score.max(1e-12),
+        "{placed:?}"
+    );
+}
+
+/// A deck with springs already (no rigid-body mode) gets no placement.
+#[test]
+fn no_low_band_placement_on_a_deck_with_springs() {
+    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
+    let sprung = deck(true);
+    let data = accelerances(
+        &sprung,
+        lines,
+        9,
+        &[2, 4, 6, 8, 9],
+        0.01,
+        c64::new(1.0, 0.0),
+    );
+    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
+    let mask = frfup::updating::fullband::fit::Mask::all(&data);
+    assert!(low_band_placements(&context(&sprung), &data, damping, &mask, 3).is_empty());
 }

@@ -30,6 +30,9 @@ use crate::identification::ColumnMode;
 use crate::model::{self, Dof, ParameterValues};
 use crate::updating::correlation::mac;
 
+mod low_band;
+pub use low_band::low_band_placements;
+
 /// Test modes below this fraction of the deck's first elastic frequency are
 /// the suspension's.
 pub const SUSPENSION_BAND: f64 = 0.5;
@@ -259,6 +262,17 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
         let (eq, sign) = fe.measured_dof(ch.node, ch.direction)?;
         channels.push(row(eq, sign));
     }
+    let nodes = node_rows(ctx, &fe, |eq| row(eq, 1.0));
+    Some(RigidRows { nodes, channels })
+}
+
+/// Per translational direction of the analysis, the rigid-body row u_n
+/// (`row` of its equation) at each beam node where it is not zero.
+fn node_rows(
+    ctx: &Context,
+    fe: &model::FeModel,
+    row: impl Fn(usize) -> Vec<f64>,
+) -> Vec<(DeckDof, NodeRows)> {
     let beam_nodes = ctx.beam_nodes();
     let mut nodes = Vec::new();
     for (deck_dof, dof) in [
@@ -266,19 +280,19 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
         (DeckDof::Y, Dof::Y),
         (DeckDof::Z, Dof::Z),
     ] {
-        if !deck.analysis.has_dof(deck_dof) {
+        if !ctx.deck.analysis.has_dof(deck_dof) {
             continue;
         }
         let rows: NodeRows = beam_nodes
             .iter()
-            .filter_map(|&n| fe.dofs.index(n, dof).map(|eq| (n, row(eq, 1.0))))
+            .filter_map(|&n| fe.dofs.index(n, dof).map(|eq| (n, row(eq))))
             .filter(|(_, u)| u.iter().any(|x| x.abs() > 0.0))
             .collect();
         if !rows.is_empty() {
             nodes.push((deck_dof, rows));
         }
     }
-    Some(RigidRows { nodes, channels })
+    nodes
 }
 
 /// The placement of springs at `pick` (indices into `nodes`), scored.
@@ -291,16 +305,7 @@ fn score(
     hard: &[u32],
 ) -> Option<Placement> {
     let nr = rows.channels.first()?.len();
-    let mut g = DMatrix::<f64>::zeros(nr, nr);
-    for &i in pick {
-        let u = &nodes[i].1;
-        for a in 0..nr {
-            for b in 0..nr {
-                g[(a, b)] += u[a] * u[b];
-            }
-        }
-    }
-    let eig = SymmetricEigen::new(g);
+    let eig = spring_gram(nodes, pick, nr);
     let mu_top = eig.eigenvalues.iter().fold(0.0f64, |a, v| a.max(*v));
     if !(mu_top > 0.0) {
         return None;
@@ -333,12 +338,7 @@ fn score(
         let d = 0.5 * (omega2(t).ln() - ln_k - held[i].0.ln());
         s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
     }
-    s += PER_SPRING * (pick.len() - 1) as f64;
-    s += OFF_HARD_POINT
-        * pick
-            .iter()
-            .filter(|&&i| !hard.contains(&nodes[i].0))
-            .count() as f64;
+    s += placement_cost(nodes, pick, hard);
     let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
     names.sort_unstable();
     Some(Placement {
@@ -347,6 +347,36 @@ fn score(
         k: ln_k.exp(),
         score: s,
     })
+}
+
+/// The eigen-decomposition of G_S = Σ_{n∈S} u_nᵀ u_n (n_r × n_r) for the
+/// springs at `pick` (indices into `nodes`): μ_i and q_i.
+fn spring_gram(
+    nodes: &[(u32, Vec<f64>)],
+    pick: &[usize],
+    nr: usize,
+) -> SymmetricEigen<f64, nalgebra::Dyn> {
+    let mut g = DMatrix::<f64>::zeros(nr, nr);
+    for &i in pick {
+        let u = &nodes[i].1;
+        for a in 0..nr {
+            for b in 0..nr {
+                g[(a, b)] += u[a] * u[b];
+            }
+        }
+    }
+    SymmetricEigen::new(g)
+}
+
+/// The placement penalty of springs at `pick`: [`PER_SPRING`] for each
+/// spring beyond the first, [`OFF_HARD_POINT`] for each off a hard point.
+fn placement_cost(nodes: &[(u32, Vec<f64>)], pick: &[usize], hard: &[u32]) -> f64 {
+    PER_SPRING * (pick.len() - 1) as f64
+        + OFF_HARD_POINT
+            * pick
+                .iter()
+                .filter(|&&i| !hard.contains(&nodes[i].0))
+                .count() as f64
 }
 
 /// Test modes paired with held modes, highest MAC first, each used once:
