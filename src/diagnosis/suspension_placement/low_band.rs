@@ -228,14 +228,8 @@ impl<'a> LowBand<'a> {
         let w_hi = self.data.omegas[*self.lines.last()?] * 2.0;
         let (lo, hi) = ((w_lo * w_lo / mu_top).ln(), (w_hi * w_hi / mu_low).ln());
         let (ln_k, misfit) = minimise(|x| self.cost(&modes, x.exp()), lo, hi);
-        let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
-        names.sort_unstable();
-        Some(Placement {
-            nodes: names,
-            dof,
-            k: ln_k.exp(),
-            score: misfit * (1.0 + placement_cost(nodes, pick, hard)),
-        })
+        let score = misfit * (1.0 + placement_cost(nodes, pick, hard));
+        Some(Placement::of(nodes, pick, dof, ln_k.exp(), score))
     }
 
     /// Mean squared weighted misfit with the rigid-body part given by

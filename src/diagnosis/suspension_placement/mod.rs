@@ -339,14 +339,22 @@ fn score(
         s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
     }
     s += placement_cost(nodes, pick, hard);
-    let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
-    names.sort_unstable();
-    Some(Placement {
-        nodes: names,
-        dof,
-        k: ln_k.exp(),
-        score: s,
-    })
+    Some(Placement::of(nodes, pick, dof, ln_k.exp(), s))
+}
+
+impl Placement {
+    /// Springs at `pick` (indices into `nodes`), named by their nodes in
+    /// ascending order.
+    fn of(nodes: &[(u32, Vec<f64>)], pick: &[usize], dof: DeckDof, k: f64, score: f64) -> Self {
+        let mut names: Vec<u32> = pick.iter().map(|&i| nodes[i].0).collect();
+        names.sort_unstable();
+        Placement {
+            nodes: names,
+            dof,
+            k,
+            score,
+        }
+    }
 }
 
 /// The eigen-decomposition of G_S = Σ_{n∈S} u_nᵀ u_n (n_r × n_r) for the
