@@ -27,7 +27,7 @@ use faer::c64;
 use nalgebra::{Dyn, SymmetricEigen};
 
 use super::{
-    node_rows, placement_cost, spring_gram, tied_with_the_best, triple_pool, Placement,
+    best_sets, node_rows, placement_cost, spring_gram, tied_with_the_best, Placement,
     SUSPENSION_BAND,
 };
 use crate::diagnosis::data::TestData;
@@ -80,28 +80,11 @@ pub fn low_band_placements(
     };
     let free = band.cost_free();
     let hard = prior::hard_points(ctx.deck);
-    let mut all: Vec<Placement> = Vec::new();
-    for (dof, nodes) in &nodes {
-        let mut found: Vec<Placement> = Vec::new();
-        for a in 0..nodes.len() {
-            found.extend(band.score(nodes, &[a], *dof, &hard));
-            for b in a + 1..nodes.len() {
-                found.extend(band.score(nodes, &[a, b], *dof, &hard));
-            }
-        }
-        found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
-        let pool = triple_pool(&found, nodes);
-        for (i, &a) in pool.iter().enumerate() {
-            for (j, &b) in pool.iter().enumerate().skip(i + 1) {
-                for &c in pool.iter().skip(j + 1) {
-                    found.extend(band.score(nodes, &[a, b, c], *dof, &hard));
-                }
-            }
-        }
-        all.extend(found);
-    }
+    let mut all = best_sets(&nodes, usize::MAX, |nodes, pick, dof| {
+        band.score(nodes, pick, dof, &hard)
+    });
+    // Only what fits the band better than the deck without springs.
     all.retain(|p| p.score < free);
-    all.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
     let kept = tied_with_the_best(&all, count);
     all.truncate(kept);
     all

@@ -159,13 +159,27 @@ pub fn placements(
         return Vec::new();
     };
     let hard = prior::hard_points(ctx.deck);
+    best_sets(&rows.nodes, count, |nodes, pick, dof| {
+        score(&rows, test, nodes, pick, dof, &hard)
+    })
+}
+
+/// The best `count` spring sets by `score` (lower is better; `None`: not a
+/// placement), best first, with the ties of the last kept: per direction
+/// every set of one or two nodes, then of three among the nodes of the best
+/// pairs ([`TRIPLE_POOL`]).
+fn best_sets(
+    by_direction: &[(DeckDof, NodeRows)],
+    count: usize,
+    score: impl Fn(&[(u32, Vec<f64>)], &[usize], DeckDof) -> Option<Placement>,
+) -> Vec<Placement> {
     let mut all: Vec<Placement> = Vec::new();
-    for (dof, nodes) in &rows.nodes {
+    for (dof, nodes) in by_direction {
         let mut found: Vec<Placement> = Vec::new();
         for a in 0..nodes.len() {
-            found.extend(score(&rows, test, nodes, &[a], *dof, &hard));
+            found.extend(score(nodes, &[a], *dof));
             for b in a + 1..nodes.len() {
-                found.extend(score(&rows, test, nodes, &[a, b], *dof, &hard));
+                found.extend(score(nodes, &[a, b], *dof));
             }
         }
         found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
@@ -173,7 +187,7 @@ pub fn placements(
         for (i, &a) in pool.iter().enumerate() {
             for (j, &b) in pool.iter().enumerate().skip(i + 1) {
                 for &c in pool.iter().skip(j + 1) {
-                    found.extend(score(&rows, test, nodes, &[a, b, c], *dof, &hard));
+                    found.extend(score(nodes, &[a, b, c], *dof));
                 }
             }
         }
@@ -200,7 +214,7 @@ fn tied_with_the_best(sorted: &[Placement], count: usize) -> usize {
         return 0;
     }
     let last = sorted[kept - 1].score;
-    while kept < sorted.len().min(2 * count) && sorted[kept].score - last <= TIE {
+    while kept < sorted.len().min(count.saturating_mul(2)) && sorted[kept].score - last <= TIE {
         kept += 1;
     }
     kept
