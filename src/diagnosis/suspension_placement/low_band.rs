@@ -27,8 +27,8 @@ use faer::c64;
 use nalgebra::{Dyn, SymmetricEigen};
 
 use super::{
-    best_sets, node_rows, placement_cost, spring_gram, tied_with_the_best, Placement,
-    SUSPENSION_BAND,
+    best_sets, node_rows, placement_cost, rigid_columns, spring_gram, tied_with_the_best,
+    Placement, SUSPENSION_BAND,
 };
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, Mask};
@@ -90,6 +90,13 @@ pub fn low_band_placements(
     all
 }
 
+/// Rigid-body modes on springs of unit stiffness: μ_i, and per active
+/// channel the coefficients (U_c q_i)(u_e q_i).
+struct SpringModes {
+    mu: Vec<f64>,
+    coeff: Vec<Vec<f64>>,
+}
+
 type DirectionRows = Vec<(frfup_parsers::deck::DeckDof, super::NodeRows)>;
 
 impl<'a> LowBand<'a> {
@@ -111,14 +118,7 @@ impl<'a> LowBand<'a> {
             return None;
         }
         let sol = fit::modal_solution(&fe, data).ok()?;
-        let omega2 = &sol.model.omega2;
-        let top = omega2.iter().fold(0.0f64, |a, w| a.max(w.abs()));
-        let rigid: Vec<usize> = (0..omega2.len())
-            .filter(|&r| omega2[r].abs() <= 1e-6 * top)
-            .collect();
-        if rigid.is_empty() || rigid.len() == omega2.len() {
-            return None;
-        }
+        let rigid = rigid_columns(&sol.model.omega2)?;
         let top_hz = LOW_BAND * ctx.first_elastic_omega / (2.0 * std::f64::consts::PI);
         let lines: Vec<usize> = (0..data.lines_hz.len())
             .filter(|&l| mask.lines[l] && data.lines_hz[l] < top_hz)
@@ -176,7 +176,26 @@ impl<'a> LowBand<'a> {
         let modes: Vec<(f64, Vec<f64>)> = (0..nr)
             .map(|i| (0.0, (0..nr).map(|a| f64::from(a == i)).collect()))
             .collect();
-        self.cost(&modes, 1.0)
+        self.cost(&self.spring_modes(&modes), 1.0)
+    }
+
+    /// The rigid-body modes on springs, (μ_i, q_i), as μ_i and the
+    /// coefficients (U_c q_i)(u_e q_i) of each active channel.
+    fn spring_modes(&self, modes: &[(f64, Vec<f64>)]) -> SpringModes {
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        SpringModes {
+            mu: modes.iter().map(|m| m.0).collect(),
+            coeff: self
+                .u
+                .iter()
+                .map(|u| {
+                    modes
+                        .iter()
+                        .map(|(_, q)| dot(u, q) * dot(&self.u_e, q))
+                        .collect()
+                })
+                .collect(),
+        }
     }
 
     /// The placement of springs at `pick` (indices into `nodes`), k by a
@@ -210,16 +229,16 @@ impl<'a> LowBand<'a> {
         let w_lo = self.data.omegas[self.lines[0]] / 4.0;
         let w_hi = self.data.omegas[*self.lines.last()?] * 2.0;
         let (lo, hi) = ((w_lo * w_lo / mu_top).ln(), (w_hi * w_hi / mu_low).ln());
+        let modes = self.spring_modes(&modes);
         let (ln_k, misfit) = minimise(|x| self.cost(&modes, x.exp()), lo, hi);
         let score = misfit * (1.0 + placement_cost(nodes, pick, hard));
         Some(Placement::of(nodes, pick, dof, ln_k.exp(), score))
     }
 
     /// Mean squared weighted misfit with the rigid-body part given by
-    /// `modes` (μ_i, q_i) on springs of stiffness `k`.
-    fn cost(&self, modes: &[(f64, Vec<f64>)], k: f64) -> f64 {
+    /// `modes` on springs of stiffness `k`.
+    fn cost(&self, modes: &SpringModes, k: f64) -> f64 {
         let data = self.data;
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         let inv: Vec<Vec<c64>> = self
             .lines
             .iter()
@@ -227,17 +246,15 @@ impl<'a> LowBand<'a> {
                 let w = data.omegas[l];
                 let kind = crate::testdata::i_omega_power(w, data.kind.order());
                 modes
+                    .mu
                     .iter()
-                    .map(|(mu, _)| kind * self.damping.modal_denominator(k * mu, w).inv())
+                    .map(|mu| kind * self.damping.modal_denominator(k * mu, w).inv())
                     .collect()
             })
             .collect();
         let (mut sum, mut n) = (0.0, 0usize);
         for (kc, &c) in self.channels.iter().enumerate() {
-            let a: Vec<f64> = modes
-                .iter()
-                .map(|(_, q)| dot(&self.u[kc], q) * dot(&self.u_e, q))
-                .collect();
+            let a = &modes.coeff[kc];
             for (j, &l) in self.lines.iter().enumerate() {
                 let w = data.weight[c][l];
                 if w == 0.0 {

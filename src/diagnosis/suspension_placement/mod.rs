@@ -258,13 +258,7 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
         },
     )
     .ok()?;
-    let top = modes.omega2.iter().fold(0.0f64, |a, w| a.max(w.abs()));
-    let rigid: Vec<usize> = (0..modes.omega2.len())
-        .filter(|&r| modes.omega2[r].abs() <= 1e-6 * top)
-        .collect();
-    if rigid.is_empty() || rigid.len() == modes.omega2.len() {
-        return None;
-    }
+    let rigid = rigid_columns(&modes.omega2)?;
     let row = |eq: usize, sign: f64| -> Vec<f64> {
         rigid
             .iter()
@@ -278,6 +272,16 @@ fn rigid_rows(ctx: &Context, data: &TestData) -> Option<RigidRows> {
     }
     let nodes = node_rows(ctx, &fe, |eq| row(eq, 1.0));
     Some(RigidRows { nodes, channels })
+}
+
+/// The rigid-body modes among `omega2` (|ω²| ≤ 1e-6 of the largest);
+/// `None` if there are none or nothing else.
+fn rigid_columns(omega2: &[f64]) -> Option<Vec<usize>> {
+    let top = omega2.iter().fold(0.0f64, |a, w| a.max(w.abs()));
+    let rigid: Vec<usize> = (0..omega2.len())
+        .filter(|&r| omega2[r].abs() <= 1e-6 * top)
+        .collect();
+    (!rigid.is_empty() && rigid.len() < omega2.len()).then_some(rigid)
 }
 
 /// Per translational direction of the analysis, the rigid-body row u_n
