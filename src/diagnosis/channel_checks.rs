@@ -4,6 +4,8 @@
 //! corrected. The second pass sees what the first had no evidence for (few
 //! modes in the band, a channel near their nodal points, two wrong
 //! channels in one campaign) and overrules it where the lines decide.
+//! After the search, the reversed and scaled channels are judged a third
+//! time, against the diagnosed model ([`sound_as_measured`]).
 
 use frfup_parsers::deck::Deck;
 
@@ -76,7 +78,7 @@ pub(super) fn check(
 }
 
 /// `column` with `errors` undone, and its fitting data.
-fn corrected(
+pub(super) fn corrected(
     deck: &Deck,
     column: &MeasuredFrfs,
     measured: &TestData,
@@ -111,4 +113,47 @@ fn predicted(
         measured,
         &Mask::all(measured),
     ))
+}
+
+/// The reversed and scaled channels that the diagnosed model (`deck`, the
+/// extensions found, with `damping`) finds sound as measured by the line
+/// verdicts of [`lines`]. A strong missing effect can make a channel look
+/// turned round, or off by a unit factor, against a deck that lacks it (an
+/// added mass of tens of kilograms moves every resonance by a third); once
+/// the model has the effect, the channel fits as it was measured, and the
+/// correction was not a data error. Swaps and dead channels are not judged
+/// again (a neighbour fits a swapped channel's place nearly as well as its
+/// own; a dead channel holds no response).
+pub(super) fn sound_as_measured(
+    deck: &Deck,
+    damping: crate::model::Damping,
+    measured: &TestData,
+    errors: &[DataError],
+) -> Vec<DataError> {
+    let judged = |e: &DataError| {
+        matches!(
+            e.kind,
+            DataErrorKind::Reversed { .. } | DataErrorKind::Scale { .. }
+        )
+    };
+    if !errors.iter().any(judged) {
+        return Vec::new();
+    }
+    let Ok(mm) = fit::modal_model(deck, measured) else {
+        return Vec::new();
+    };
+    let model = fit::predict(&mm, damping, measured, &Mask::all(measured));
+    let live: Vec<bool> = (0..measured.channels.len())
+        .map(|c| {
+            !errors
+                .iter()
+                .any(|e| e.channel == c && matches!(e.kind, DataErrorKind::Dead { .. }))
+        })
+        .collect();
+    let verdicts = lines::verdicts(measured, &model, &live);
+    errors
+        .iter()
+        .filter(|e| judged(e) && verdicts[e.channel] == lines::Verdict::Sound)
+        .cloned()
+        .collect()
 }

@@ -237,7 +237,7 @@ pub fn diagnose_with_progress(
     let engine = Engine::new(&data);
     engine.spend(check_evaluations);
     let search = Search::new(&engine, deck, test, opts);
-    let data_error_findings = data_error_findings(deck, &measured, &search, &checked);
+    let checked_findings = data_error_findings(deck, &measured, &search, &checked);
     ignored_channels.extend(
         checked
             .iter()
@@ -263,15 +263,127 @@ pub fn diagnose_with_progress(
         ));
     };
 
-    // The damping of the extended model.
+    // The damping of the extended model, on the test with the data errors
+    // the extended model confirms undone.
     stage("fitting the damping of the extended model");
+    let damp = final_damping::choose_form_again(&search, &g.current, g.damp.clone());
+    let final_fit = final_damping::fit_final_damping(&search, &g.current, &damp)?;
+    let restored = channel_checks::sound_as_measured(
+        &g.current,
+        final_fit.damping.damping(),
+        &measured,
+        &checked,
+    );
+    let before = Before {
+        initial,
+        updated,
+        first,
+        ignored_channels,
+        evaluations: 0,
+    };
+    if restored.is_empty() {
+        let mut d = finish(&search, before, g, checked_findings, final_fit, &mut lap)?;
+        d.timings = timings;
+        return Ok(d);
+    }
+    let retest = Retest {
+        deck,
+        column: &column,
+        measured: &measured,
+        roving,
+        opts,
+        checked: &checked,
+        restored: &restored,
+    };
+    let mut d = finish_restored(&retest, engine.spent(), before, g, final_fit, &mut lap)?;
+    d.timings = timings;
+    Ok(d)
+}
+
+/// The test the diagnosis was prepared from, to be corrected again.
+struct Retest<'a> {
+    deck: &'a Deck,
+    column: &'a MeasuredFrfs,
+    measured: &'a TestData,
+    roving: bool,
+    opts: &'a DiagnoseOptions,
+    /// The data errors found, and those of them to undo no more.
+    checked: &'a [data_errors::DataError],
+    restored: &'a [data_errors::DataError],
+}
+
+/// [`finish`] on the test with the restored channels as measured again
+/// (the other errors found still undone): the final damping fitted
+/// again from the search's, the deck as given and updated scored on that
+/// test, the restored channels listed as rejected data errors. `spent`:
+/// model solutions of the search's engine.
+fn finish_restored(
+    t: &Retest,
+    spent: usize,
+    before: Before,
+    mut g: greedy::Greedy,
+    final_fit: select::HypFit,
+    lap: &mut dyn FnMut(&'static str, usize),
+) -> Result<Diagnosis, DiagnoseError> {
+    let kept: Vec<_> = t
+        .checked
+        .iter()
+        .filter(|e| !t.restored.contains(e))
+        .cloned()
+        .collect();
+    let (test, data) = channel_checks::corrected(t.deck, t.column, t.measured, t.roving, &kept)?;
+    let engine = Engine::new(&data);
+    let search = Search::new(&engine, t.deck, &test, t.opts);
+    let final_fit = final_damping::fit_final_damping(&search, &g.current, &final_fit.damping)?;
+    let findings = data_error_findings(t.deck, t.measured, &search, &kept);
+    let before = Before {
+        initial: quality(&engine, t.deck, &search.start_damping)?,
+        updated: quality(&engine, &before.first.deck, &search.start_damping)?,
+        evaluations: spent,
+        ..before
+    };
+    g.rejected.extend(t.restored.iter().filter_map(|e| {
+        let f = data_errors::finding(e, t.measured, f64::NAN, f64::NAN)?;
+        Some(Rejected {
+            label: f.label,
+            round: 0,
+            value: f.parameters.get("factor").copied(),
+            validation_error: f64::NAN,
+            reason: "the diagnosed model fits the channel as measured: the missing physics, \
+                     not the channel, made it look wrong against the deck"
+                .into(),
+        })
+    }));
+    finish(&search, before, g, findings, final_fit, lap)
+}
+
+/// What the diagnosis had before its final stage.
+struct Before {
+    initial: FitQuality,
+    updated: FitQuality,
+    first: first_stage::FirstStage,
+    ignored_channels: Vec<String>,
+    /// Model solutions spent on another engine (a test whose corrections
+    /// changed since); 0 when the final stage runs on the search's.
+    evaluations: usize,
+}
+
+/// The final stage on the test of `search`: the damping finding, the
+/// diagnosed deck and its scores.
+fn finish(
+    search: &Search,
+    before: Before,
+    g: greedy::Greedy,
+    data_error_findings: Vec<Finding>,
+    final_fit: select::HypFit,
+    lap: &mut dyn FnMut(&'static str, usize),
+) -> Result<Diagnosis, DiagnoseError> {
+    let engine = search.engine;
     let current = g.current;
-    let damp = final_damping::choose_form_again(&search, &current, g.damp);
-    let final_fit = final_damping::fit_final_damping(&search, &current, &damp)?;
     let damp = final_fit.damping.clone();
     let v_fitted = engine.validate(None, &current, &final_fit);
     let mut findings = g.findings;
-    if let Some(f) = final_damping::damping_finding(&search, &current, &final_fit, v_fitted) {
+    if let Some(f) = final_damping::damping_finding(search, &current, &final_fit, v_fitted) {
         findings.insert(0, f);
     }
     findings.splice(0..0, data_error_findings);
@@ -281,28 +393,30 @@ pub fn diagnose_with_progress(
     diagnosed_deck = frfup_parsers::deck::parse(&text).map_err(|e| {
         DiagnoseError::Data(format!("internal: the diagnosed deck does not parse: {e}"))
     })?;
-    let diagnosed = quality(&engine, &diagnosed_deck, &damp)?;
+    let diagnosed = quality(engine, &diagnosed_deck, &damp)?;
     let at_noise_level = search.at_noise_level(final_fit.cost);
-    lap("damping and final scores", engine.spent());
+    let evaluations = before.evaluations + engine.spent();
+    lap("damping and final scores", evaluations);
+    let data = engine.data;
     Ok(Diagnosis {
         findings,
-        initial,
-        updated,
+        initial: before.initial,
+        updated: before.updated,
         diagnosed,
         diagnosed_deck,
-        updated_deck: first.deck,
+        updated_deck: before.first.deck,
         updated_parameters: g.base_values,
-        update_note: first.note,
+        update_note: before.first.note,
         noise_level: search.j0,
         localisation: g.localisation,
         rejected: g.rejected,
         channels: data.channels.iter().map(|c| c.label.clone()).collect(),
-        ignored_channels,
-        model_evaluations: engine.spent(),
+        ignored_channels: before.ignored_channels,
+        model_evaluations: evaluations,
         model_solutions_kept: engine.models_kept(),
         data: data.clone(),
         at_noise_level,
-        timings,
+        timings: Vec::new(),
     })
 }
 
