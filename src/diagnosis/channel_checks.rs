@@ -42,13 +42,7 @@ pub(super) fn check(
     let engine = Engine::new(&data);
     let search = Search::new(&engine, deck, &test, opts);
     let first = first_stage::update_own_parameters(&search);
-    let live: Vec<bool> = (0..measured.channels.len())
-        .map(|c| {
-            !modal
-                .iter()
-                .any(|e| e.channel == c && matches!(e.kind, DataErrorKind::Dead { .. }))
-        })
-        .collect();
+    let live = live_channels(measured, &modal);
     let errors = if live.iter().filter(|l| **l).count() < 4 {
         modal.clone()
     } else {
@@ -143,17 +137,22 @@ pub(super) fn sound_as_measured(
         return Vec::new();
     };
     let model = fit::predict(&mm, damping, measured, &Mask::all(measured));
-    let live: Vec<bool> = (0..measured.channels.len())
-        .map(|c| {
-            !errors
-                .iter()
-                .any(|e| e.channel == c && matches!(e.kind, DataErrorKind::Dead { .. }))
-        })
-        .collect();
+    let live = live_channels(measured, errors);
     let verdicts = lines::verdicts(measured, &model, &live);
     errors
         .iter()
         .filter(|e| judged(e) && verdicts[e.channel] == lines::Verdict::Sound)
         .cloned()
+        .collect()
+}
+
+/// Per channel of `measured`: not found dead among `errors`.
+fn live_channels(measured: &TestData, errors: &[DataError]) -> Vec<bool> {
+    (0..measured.channels.len())
+        .map(|c| {
+            !errors
+                .iter()
+                .any(|e| e.channel == c && matches!(e.kind, DataErrorKind::Dead { .. }))
+        })
         .collect()
 }
