@@ -193,7 +193,8 @@ pub struct Diagnosis {
 /// parameters updated (step 1, `first_stage.rs`), extensions searched
 /// greedily from each start (steps 2–4: `search.rs`, one search in
 /// `greedy.rs`, one round of it in `round.rs`), then the damping of the
-/// extended model (`final_damping.rs`).
+/// extended model (`final_damping.rs`), with the reversed and scaled
+/// channels judged again against it (`channel_checks.rs`).
 pub fn diagnose(
     deck: &Deck,
     test: &MeasuredFrfs,
