@@ -100,13 +100,18 @@ fn predicted(
         &search.start_damping,
         &engine.all,
     ))?;
+    prediction(deck, f.damping.damping(), measured)
+}
+
+/// The FRFs of `deck` with `damping` at every channel and line of
+/// `measured` (`None` if the deck gives no usable modal model).
+fn prediction(
+    deck: &Deck,
+    damping: crate::model::Damping,
+    measured: &TestData,
+) -> Option<Vec<Vec<faer::c64>>> {
     let mm = fit::modal_model(deck, measured).ok()?;
-    Some(fit::predict(
-        &mm,
-        f.damping.damping(),
-        measured,
-        &Mask::all(measured),
-    ))
+    Some(fit::predict(&mm, damping, measured, &Mask::all(measured)))
 }
 
 /// The reversed and scaled channels that the diagnosed model (`deck`, the
@@ -133,10 +138,9 @@ pub(super) fn sound_as_measured(
     if !errors.iter().any(judged) {
         return Vec::new();
     }
-    let Ok(mm) = fit::modal_model(deck, measured) else {
+    let Some(model) = prediction(deck, damping, measured) else {
         return Vec::new();
     };
-    let model = fit::predict(&mm, damping, measured, &Mask::all(measured));
     let live = live_channels(measured, errors);
     let verdicts = lines::verdicts(measured, &model, &live);
     errors

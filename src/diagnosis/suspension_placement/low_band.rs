@@ -34,6 +34,7 @@ use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, Mask};
 use crate::diagnosis::hypotheses::{prior, Context};
 use crate::model::{self, Damping, ParameterValues};
+use crate::updating::serep::dot;
 
 /// Lines below this fraction of the deck's first elastic frequency carry the
 /// suspension's signature.
@@ -182,7 +183,6 @@ impl<'a> LowBand<'a> {
     /// The rigid-body modes on springs, (μ_i, q_i), as μ_i and the
     /// coefficients (U_c q_i)(u_e q_i) of each active channel.
     fn spring_modes(&self, modes: &[(f64, Vec<f64>)]) -> SpringModes {
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         SpringModes {
             mu: modes.iter().map(|m| m.0).collect(),
             coeff: self
