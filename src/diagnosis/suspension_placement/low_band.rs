@@ -44,6 +44,9 @@ const MIN_LINES: usize = 3;
 /// Points of the first grid on ln k, then golden-section steps.
 const K_GRID: usize = 48;
 const K_GOLDEN: usize = 24;
+/// Triples scored per direction: those of the best pairs' twelve nodes (a
+/// score here is a search on ln k over the band's lines, about 2 ms).
+const TRIPLES: usize = 220;
 
 /// The deck's low band: the lines, the elastic part of its prediction and
 /// the rigid-body rows at the channels and the excitation.
@@ -81,7 +84,7 @@ pub fn low_band_placements(
     };
     let free = band.cost_free();
     let hard = prior::hard_points(ctx.deck);
-    let mut all = best_sets(&nodes, usize::MAX, |nodes, pick, dof| {
+    let mut all = best_sets(&nodes, usize::MAX, TRIPLES, |nodes, pick, dof| {
         band.score(nodes, pick, dof, &hard)
     });
     // Only what fits the band better than the deck without springs.

@@ -11,8 +11,9 @@
 //! so their frequencies are √(k μ_i)/2π over the eigenvalues μ_i of G_S and
 //! their shapes at the channels are U q_i (U: the rows of Φ_r there). The
 //! frequency ratios and the shapes depend on the placement alone; k only
-//! scales. Every set of one or two nodes, and of three among the nodes of
-//! the best pairs, is scored against the suspension modes the
+//! scales. Every set of one, two or three nodes (of three among the nodes
+//! of the best pairs on decks of more than 63 nodes) is scored against the
+//! suspension modes the
 //! identification finds in the test (the modes below [`SUSPENSION_BAND`] of
 //! the deck's first elastic frequency), k fitted in closed form
 //! (ln k = mean of ln(ω_t²/μ_i) over the paired modes). The best sets go to
@@ -48,8 +49,15 @@ const PER_SPRING: f64 = 1e-3;
 /// rigid-body effect (nodes along a leg under vertical springs), the one
 /// hung from hard points.
 const OFF_HARD_POINT: f64 = 2e-3;
-/// Nodes of the best pairs among which triples are tried.
-const TRIPLE_POOL: usize = 12;
+/// Triples of nodes scored per direction by the modal placement: every
+/// triple of up to 63 nodes (its score is an n_r × n_r eigen problem and a
+/// MAC pairing, microseconds); on larger decks, those among the nodes of the
+/// best pairs. A pair holds two rigid-body modes, so when the test shows
+/// three, every pair leaves one unmatched and the pairs' ranking says
+/// little about which nodes three springs need (seed-1 case 109: springs at
+/// nodes 1, 2, 3 of a space frame, none of them among the best pairs'
+/// twelve nodes; placed at 14, 15 instead, 9.7× the noise).
+const TRIPLE_BUDGET: usize = 40_000;
 
 /// The test's suspension modes: frequency (Hz) and real shape at the
 /// channels.
@@ -159,7 +167,7 @@ pub fn placements(
         return Vec::new();
     };
     let hard = prior::hard_points(ctx.deck);
-    best_sets(&rows.nodes, count, |nodes, pick, dof| {
+    best_sets(&rows.nodes, count, TRIPLE_BUDGET, |nodes, pick, dof| {
         score(&rows, test, nodes, pick, dof, &hard)
     })
 }
@@ -167,10 +175,12 @@ pub fn placements(
 /// The best `count` spring sets by `score` (lower is better; `None`: not a
 /// placement), best first, with the ties of the last kept: per direction
 /// every set of one or two nodes, then of three among the nodes of the best
-/// pairs ([`TRIPLE_POOL`]).
+/// pairs, as many nodes as keep the triples within `triples`
+/// ([`triple_pool`]).
 fn best_sets(
     by_direction: &[(DeckDof, NodeRows)],
     count: usize,
+    triples: usize,
     score: impl Fn(&[(u32, Vec<f64>)], &[usize], DeckDof) -> Option<Placement>,
 ) -> Vec<Placement> {
     let mut all: Vec<Placement> = Vec::new();
@@ -182,8 +192,8 @@ fn best_sets(
                 found.extend(score(nodes, &[a, b], *dof));
             }
         }
-        found.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
-        let pool = triple_pool(&found, nodes);
+        found.sort_by(by_score);
+        let pool = triple_pool(&found, nodes, pool_size(triples));
         for (i, &a) in pool.iter().enumerate() {
             for (j, &b) in pool.iter().enumerate().skip(i + 1) {
                 for &c in pool.iter().skip(j + 1) {
@@ -193,7 +203,7 @@ fn best_sets(
         }
         all.extend(found);
     }
-    all.sort_by(|x, y| x.score.total_cmp(&y.score).then(x.nodes.cmp(&y.nodes)));
+    all.sort_by(by_score);
     let kept = tied_with_the_best(&all, count);
     all.truncate(kept);
     all
@@ -203,6 +213,15 @@ fn best_sets(
 /// rows of the rigid-body modes equal to rounding: nodes above one another
 /// under vertical springs). Far below [`PER_SPRING`] and [`OFF_HARD_POINT`].
 const TIE: f64 = 1e-9;
+
+/// Lower score first; scores within [`TIE`] (on a grid of that step, so
+/// that the order is total) by their nodes, lowest first: sets alike in
+/// their rigid-body effect come in the order of their node numbers, not of
+/// their rounding errors.
+fn by_score(x: &Placement, y: &Placement) -> std::cmp::Ordering {
+    let key = |p: &Placement| (p.score / TIE).round();
+    key(x).total_cmp(&key(y)).then(x.nodes.cmp(&y.nodes))
+}
 
 /// How many of `sorted` to keep: the best `count`, and every further one
 /// tied with the last of them (up to `2·count` in all), so that sets alike
@@ -220,19 +239,29 @@ fn tied_with_the_best(sorted: &[Placement], count: usize) -> usize {
     kept
 }
 
-/// Indices (into `nodes`) of the nodes of the best pairs, at most
-/// [`TRIPLE_POOL`], ascending.
-fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)]) -> Vec<usize> {
+/// The largest pool of p nodes whose triples, p(p − 1)(p − 2)/6, number at
+/// most `triples`.
+fn pool_size(triples: usize) -> usize {
+    let mut p = 3;
+    while (p + 1) * p * (p - 1) / 6 <= triples {
+        p += 1;
+    }
+    p
+}
+
+/// Indices (into `nodes`) of the nodes of the best pairs, at most `size`,
+/// ascending.
+fn triple_pool(found: &[Placement], nodes: &[(u32, Vec<f64>)], size: usize) -> Vec<usize> {
     let mut pool: Vec<usize> = Vec::new();
     for p in found.iter().filter(|p| p.nodes.len() == 2) {
         for n in &p.nodes {
             if let Some(i) = nodes.iter().position(|(m, _)| m == n) {
-                if !pool.contains(&i) && pool.len() < TRIPLE_POOL {
+                if !pool.contains(&i) && pool.len() < size {
                     pool.push(i);
                 }
             }
         }
-        if pool.len() >= TRIPLE_POOL {
+        if pool.len() >= size {
             break;
         }
     }
