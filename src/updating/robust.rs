@@ -103,6 +103,12 @@ pub fn update_robust(
 /// damping fit) can lie in the basin of a local minimum, e.g. a first stage
 /// that settled on a wrong pairing; only a fit at the noise level shows
 /// that the minimum is the one the data support.
+///
+/// The further starts are independent estimates: they run on the pool's
+/// threads, a batch of as many as it has at a time, and their outcomes are
+/// taken in the order of the starts, exactly as one after the other (the
+/// spread starts' early stop included: a start after the one that stopped
+/// them is discarded), so the result is the same on any number of threads.
 fn best_estimate(
     deck: &Deck,
     data: &TestData,
@@ -123,8 +129,13 @@ fn best_estimate(
         return Ok(best);
     }
     let (chosen, mut solutions) = (best.start, best.model_solutions);
-    for (k, s) in starts.into_iter().enumerate().filter(|&(k, _)| k != chosen) {
-        if let Ok(mut other) = run(vec![s]) {
+    let others: Vec<(usize, Vec<f64>)> = starts
+        .into_iter()
+        .enumerate()
+        .filter(|&(k, _)| k != chosen)
+        .collect();
+    for (k, other) in in_parallel(others, |s| run(vec![s])) {
+        if let Ok(mut other) = other {
             solutions += other.model_solutions;
             if other.misfit < best.misfit {
                 other.start = k;
@@ -137,21 +148,36 @@ fn best_estimate(
     // the first stage (which can itself have settled on a wrong pairing).
     if best.misfit > SPREAD_MISFIT {
         let spread = spread_starts(best.parameters.len(), opts.spread_starts);
-        for (i, s) in spread.into_iter().enumerate() {
-            if let Ok(mut other) = run(vec![s]) {
-                solutions += other.model_solutions;
-                if other.misfit < best.misfit {
-                    other.start = SPREAD_START + i;
-                    best = other;
+        let batch = rayon::current_num_threads().max(1);
+        let mut spread = spread.into_iter().enumerate().peekable();
+        'batches: while spread.peek().is_some() {
+            let these: Vec<(usize, Vec<f64>)> = spread.by_ref().take(batch).collect();
+            for (i, other) in in_parallel(these, |s| run(vec![s])) {
+                if let Ok(mut other) = other {
+                    solutions += other.model_solutions;
+                    if other.misfit < best.misfit {
+                        other.start = SPREAD_START + i;
+                        best = other;
+                    }
                 }
-            }
-            if best.misfit <= SPREAD_STOP {
-                break;
+                if best.misfit <= SPREAD_STOP {
+                    break 'batches;
+                }
             }
         }
     }
     best.model_solutions = solutions;
     Ok(best)
+}
+
+/// `f` of each item's value on the pool's threads, with the items' keys,
+/// in the items' order.
+fn in_parallel<T: Send, R: Send>(
+    items: Vec<(usize, T)>,
+    f: impl Fn(T) -> R + Sync,
+) -> Vec<(usize, R)> {
+    use rayon::prelude::*;
+    items.into_par_iter().map(|(k, v)| (k, f(v))).collect()
 }
 
 /// Misfit above which `spread_starts` further starts are tried.

@@ -288,6 +288,34 @@ fn a_local_minimum_is_left_from_a_spread_start() {
     every_parameter_within(&case, &r, 0.01);
 }
 
+/// The further starts run on the pool's threads, taken in their order as if
+/// one after the other: case 040 above (ordinary starts, then spread starts
+/// until one reaches 1.5× the noise) gives the same estimate, bit for bit,
+/// the same start and the same count of model solutions (the starts after
+/// the one that stopped the spread are not counted) on one thread and on
+/// three (batches of three spread starts: the stop falls inside a batch).
+#[test]
+fn further_starts_on_several_threads_give_the_same_estimate() {
+    use frfup::benchmark::{case_seed, generate, GenOptions};
+    let case = generate(case_seed(1, 40), &GenOptions::default()).expect("generate");
+    let model = parse(&case.model_deck).unwrap();
+    let file = frfup::parsers::uff::parse(&case.uff_bytes().unwrap()).unwrap();
+    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
+    let on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let r = pool.install(|| update(&model, &test, &UpdateOptions::default()).unwrap());
+        let e = r.estimate.expect("full-band estimate");
+        let bits: Vec<u64> = e.parameters.iter().map(|p| p.value.to_bits()).collect();
+        (bits, e.start, e.model_solutions, e.misfit.to_bits())
+    };
+    let one = on(1);
+    assert!(one.1 >= frfup::updating::fullband::estimate::SPREAD_START);
+    assert_eq!(one, on(3));
+}
+
 /// Parameters the resonance frequencies do not see are held near the start
 /// by the coarse stage: the update benchmark's case 125 of seed 1 (pinned
 /// portal, roving hammer at 6 points, z only, 5 elastic modes; three of its
