@@ -19,6 +19,7 @@ use frfup_parsers::deck::Deck;
 
 use super::fullband::data::TestData;
 use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate, SPREAD_START};
+use super::fullband::FitError;
 use super::iterate::update_model;
 use super::{
     IterationRecord, IterationStage, StopReason, UpdateError, UpdateMethod, UpdateOptions,
@@ -103,12 +104,8 @@ pub fn update_robust(
 /// damping fit) can lie in the basin of a local minimum, e.g. a first stage
 /// that settled on a wrong pairing; only a fit at the noise level shows
 /// that the minimum is the one the data support.
-///
-/// The further starts are independent estimates: they run on the pool's
-/// threads, a batch of as many as it has at a time, and their outcomes are
-/// taken in the order of the starts, exactly as one after the other (the
-/// spread starts' early stop included: a start after the one that stopped
-/// them is discarded), so the result is the same on any number of threads.
+/// The further starts are independent estimates, run on the pool's threads
+/// ([`try_starts`]).
 fn best_estimate(
     deck: &Deck,
     data: &TestData,
@@ -129,55 +126,60 @@ fn best_estimate(
         return Ok(best);
     }
     let (chosen, mut solutions) = (best.start, best.model_solutions);
-    let others: Vec<(usize, Vec<f64>)> = starts
+    let others = starts
         .into_iter()
         .enumerate()
         .filter(|&(k, _)| k != chosen)
         .collect();
-    for (k, other) in in_parallel(others, |s| run(vec![s])) {
-        if let Ok(mut other) = other {
-            solutions += other.model_solutions;
-            if other.misfit < best.misfit {
-                other.start = k;
-                best = other;
-            }
-        }
-    }
+    try_starts(&mut best, &mut solutions, others, f64::NEG_INFINITY, &run);
     // Every start ended in the basin of a minimum that leaves the test
     // unexplained: starts spread over the plausible range, independent of
     // the first stage (which can itself have settled on a wrong pairing).
     if best.misfit > SPREAD_MISFIT {
-        let spread = spread_starts(best.parameters.len(), opts.spread_starts);
-        let batch = rayon::current_num_threads().max(1);
-        let mut spread = spread.into_iter().enumerate().peekable();
-        'batches: while spread.peek().is_some() {
-            let these: Vec<(usize, Vec<f64>)> = spread.by_ref().take(batch).collect();
-            for (i, other) in in_parallel(these, |s| run(vec![s])) {
-                if let Ok(mut other) = other {
-                    solutions += other.model_solutions;
-                    if other.misfit < best.misfit {
-                        other.start = SPREAD_START + i;
-                        best = other;
-                    }
-                }
-                if best.misfit <= SPREAD_STOP {
-                    break 'batches;
-                }
-            }
-        }
+        let spread = spread_starts(best.parameters.len(), opts.spread_starts)
+            .into_iter()
+            .enumerate()
+            .map(|(i, s)| (SPREAD_START + i, s))
+            .collect();
+        try_starts(&mut best, &mut solutions, spread, SPREAD_STOP, &run);
     }
     best.model_solutions = solutions;
     Ok(best)
 }
 
-/// `f` of each item's value on the pool's threads, with the items' keys,
-/// in the items' order.
-fn in_parallel<T: Send, R: Send>(
-    items: Vec<(usize, T)>,
-    f: impl Fn(T) -> R + Sync,
-) -> Vec<(usize, R)> {
+/// The estimate from each of `starts` (its index, p̄), kept in `best` when
+/// its misfit is lower, in the order of the starts, until `best` reaches
+/// `stop`; the model solutions of those taken added to `solutions`. The
+/// starts run on the pool's threads, a batch of as many as it has at a
+/// time; one computed after the stop is discarded and not counted, so the
+/// outcome is the same on any number of threads.
+fn try_starts(
+    best: &mut FullBandEstimate,
+    solutions: &mut usize,
+    starts: Vec<(usize, Vec<f64>)>,
+    stop: f64,
+    run: &(impl Fn(Vec<Vec<f64>>) -> Result<FullBandEstimate, FitError> + Sync),
+) {
     use rayon::prelude::*;
-    items.into_par_iter().map(|(k, v)| (k, f(v))).collect()
+    let batch = rayon::current_num_threads().max(1);
+    for these in starts.chunks(batch) {
+        let outcomes: Vec<_> = these
+            .par_iter()
+            .map(|(k, s)| (*k, run(vec![s.clone()])))
+            .collect();
+        for (k, outcome) in outcomes {
+            if let Ok(mut other) = outcome {
+                *solutions += other.model_solutions;
+                if other.misfit < best.misfit {
+                    other.start = k;
+                    *best = other;
+                }
+            }
+            if best.misfit <= stop {
+                return;
+            }
+        }
+    }
 }
 
 /// Misfit above which `spread_starts` further starts are tried.

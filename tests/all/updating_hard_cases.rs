@@ -238,14 +238,20 @@ fn benchmark_case_of_seed_updated(
     seed: u64,
     i: u64,
 ) -> (frfup::benchmark::Case, frfup::updating::UpdateResult) {
+    let (case, model, test) = benchmark_campaign(seed, i);
+    let r = update(&model, &test, &UpdateOptions::default()).expect("update runs");
+    (case, r)
+}
+
+/// Case `i` of the update benchmark of seed `seed`: the case, its deck and
+/// its test as read from its UFF bytes.
+fn benchmark_campaign(seed: u64, i: u64) -> (frfup::benchmark::Case, Deck, MeasuredFrfs) {
     use frfup::benchmark::{case_seed, generate, GenOptions};
     let case = generate(case_seed(seed, i), &GenOptions::default()).expect("generate");
     let model = parse(&case.model_deck).unwrap();
-    let bytes = case.uff_bytes().unwrap();
-    let file = frfup::parsers::uff::parse(&bytes).unwrap();
+    let file = frfup::parsers::uff::parse(&case.uff_bytes().unwrap()).unwrap();
     let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
-    let r = update(&model, &test, &UpdateOptions::default()).expect("update runs");
-    (case, r)
+    (case, model, test)
 }
 
 /// Every parameter of the truth identified and within `tol` of it.
@@ -296,11 +302,7 @@ fn a_local_minimum_is_left_from_a_spread_start() {
 /// three (batches of three spread starts: the stop falls inside a batch).
 #[test]
 fn further_starts_on_several_threads_give_the_same_estimate() {
-    use frfup::benchmark::{case_seed, generate, GenOptions};
-    let case = generate(case_seed(1, 40), &GenOptions::default()).expect("generate");
-    let model = parse(&case.model_deck).unwrap();
-    let file = frfup::parsers::uff::parse(&case.uff_bytes().unwrap()).unwrap();
-    let test = frfup::testdata::from_uff(&file, std::path::Path::new("test.uff")).unwrap();
+    let (_, model, test) = benchmark_campaign(1, 40);
     let on = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
