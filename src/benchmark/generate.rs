@@ -8,6 +8,7 @@ mod params;
 mod structure;
 
 pub use diagnose::generate_diagnosis;
+pub use effects::frf_change;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -284,7 +285,8 @@ pub struct Case {
 /// How visible an effect is in the case's test, without noise: `frf_change`
 /// = RMS over channels c and lines l of |H_effect − H_none| / (noise ×
 /// RMS_l |H_none,c|), i.e. the FRF change in units of the noise the case
-/// adds (noise alone gives 1); `freq_shift` = the largest relative shift of a
+/// adds (noise alone gives 1; a channel H_none leaves at rounding level
+/// counts at 1e-8 of the strongest channel's RMS); `freq_shift` = the largest relative shift of a
 /// band mode it causes (0 for damping and data errors).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Detectability {

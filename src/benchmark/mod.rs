@@ -28,7 +28,7 @@ pub mod score_diagnosis;
 pub use diagnosis_summary::{diagnosis_summary_markdown, DiagRecord};
 pub use effect::Effect;
 pub use generate::{
-    case_seed, generate, generate_diagnosis, Case, GenError, GenOptions, Structure,
+    case_seed, frf_change, generate, generate_diagnosis, Case, GenError, GenOptions, Structure,
 };
 pub use score::{
     message_class, score_estimates, score_report, summary_markdown, CaseScore, ReportEstimate,

@@ -364,13 +364,24 @@ pub(super) fn detectability(set: &Setting, e: &Effect) -> Result<Detectability, 
 }
 
 /// RMS over channels and lines of |H − H_ref| / (noise × RMS |H_ref,c|).
-pub(super) fn frf_change(reference: &MeasuredFrfs, other: &MeasuredFrfs, noise: f64) -> f64 {
+/// A channel the reference leaves at rounding level (an axial sensor of a
+/// straight beam excited across it: its response is zero by symmetry)
+/// takes the noise of a channel at [`SILENT`] × the strongest channel's
+/// RMS: rounding differences there are not a change anyone can see.
+pub fn frf_change(reference: &MeasuredFrfs, other: &MeasuredFrfs, noise: f64) -> f64 {
+    let rms2 = |values: &[faer::c64]| {
+        values.iter().map(|v| v.norm_sqr()).sum::<f64>() / values.len().max(1) as f64
+    };
+    let strongest = reference
+        .channels
+        .iter()
+        .map(|c| rms2(&c.values))
+        .fold(0.0, f64::max);
+    let floor = SILENT * SILENT * strongest;
     let mut sum = 0.0;
     let mut n = 0usize;
     for (a, b) in reference.channels.iter().zip(&other.channels) {
-        let rms2 =
-            a.values.iter().map(|v| v.norm_sqr()).sum::<f64>() / a.values.len().max(1) as f64;
-        let sigma2 = (noise * noise * rms2).max(1e-300);
+        let sigma2 = (noise * noise * rms2(&a.values).max(floor)).max(1e-300);
         for (x, y) in a.values.iter().zip(&b.values) {
             sum += (x - y).norm_sqr() / sigma2;
             n += 1;
@@ -378,6 +389,11 @@ pub(super) fn frf_change(reference: &MeasuredFrfs, other: &MeasuredFrfs, noise: 
     }
     (sum / n.max(1) as f64).sqrt()
 }
+
+/// RMS, relative to the campaign's strongest channel, below which a
+/// reference channel counts as silent in [`frf_change`] (rounding of a
+/// response that is zero by symmetry sits near 1e-15).
+const SILENT: f64 = 1e-8;
 
 /// Parameters without bounds (the truth deck's `param` lines).
 pub(super) fn bare(params: &[ParamTruth]) -> Vec<ParamTruth> {

@@ -3,6 +3,7 @@
 //! test binary, so that the library is compiled once for the tests.
 
 mod batch_campaign;
+mod benchmark_generate_effects;
 mod benchmark_score_diagnosis;
 mod diagnosis_discriminate;
 mod diagnosis_folds;
