@@ -43,15 +43,27 @@ pub(super) fn check(
     let search = Search::new(&engine, deck, &test, opts);
     let first = first_stage::update_own_parameters(&search);
     let live = live_channels(measured, &modal);
+    let mut evaluations = 0;
     let errors = if live.iter().filter(|l| **l).count() < 4 {
         modal.clone()
     } else {
         match predicted(&engine, &search, &first.deck, measured) {
-            Some(model) => lines::reconcile(&modal, &lines::verdicts(measured, &model, &live)),
+            Some(model) => {
+                let mut judged = lines::judge_channels(measured, &model, &live);
+                let again = Again {
+                    deck,
+                    column,
+                    measured,
+                    roving,
+                    opts,
+                };
+                evaluations += again.judge_doubtful(&modal, &live, &mut judged)?;
+                lines::reconcile(&modal, &judged.verdicts)
+            }
             None => modal.clone(),
         }
     };
-    let evaluations = engine.spent();
+    evaluations += engine.spent();
     if errors == modal {
         return Ok(Checked {
             errors,
@@ -69,6 +81,57 @@ pub(super) fn check(
         first: None,
         evaluations,
     })
+}
+
+/// What the channels in doubt are judged again on: the deck, the test
+/// (`column`, as placed: `measured`), its layout and the options.
+struct Again<'a> {
+    deck: &'a Deck,
+    column: &'a MeasuredFrfs,
+    measured: &'a TestData,
+    roving: bool,
+    opts: &'a DiagnoseOptions,
+}
+
+impl Again<'_> {
+    /// The channels the line verdicts leave in doubt ([`lines::Judged`])
+    /// judged again against the deck updated without them (on the test the
+    /// modal checks corrected, those channels dropped): wrong data pull an
+    /// update made on them towards themselves, and hide. Their verdicts are
+    /// replaced by the new ones; the others stand. Returns the model
+    /// solutions it took.
+    fn judge_doubtful(
+        &self,
+        modal: &[DataError],
+        live: &[bool],
+        judged: &mut lines::Judged,
+    ) -> Result<usize, DiagnoseError> {
+        let doubtful = judged.doubtful.clone();
+        let kept = live.iter().filter(|l| **l).count() - doubtful.len();
+        if doubtful.is_empty() || kept < 4 {
+            return Ok(0);
+        }
+        let touches = |e: &DataError| {
+            doubtful.contains(&e.channel)
+                || matches!(e.kind, DataErrorKind::Swapped { other } if doubtful.contains(&other))
+        };
+        let mut without: Vec<DataError> = modal.iter().filter(|e| !touches(e)).cloned().collect();
+        without.extend(doubtful.iter().map(|&channel| DataError {
+            channel,
+            kind: DataErrorKind::Dead { snr: 0.0 },
+        }));
+        let (test, data) = corrected(self.deck, self.column, self.measured, self.roving, &without)?;
+        let engine = Engine::new(&data);
+        let search = Search::new(&engine, self.deck, &test, self.opts);
+        let first = first_stage::update_own_parameters(&search);
+        if let Some(model) = predicted(&engine, &search, &first.deck, self.measured) {
+            let again = lines::judge_channels(self.measured, &model, live);
+            for &c in &doubtful {
+                judged.verdicts[c] = again.verdicts[c].clone();
+            }
+        }
+        Ok(engine.spent())
+    }
 }
 
 /// `column` with `errors` undone, and its fitting data.

@@ -59,6 +59,10 @@ pub const SWAP_SUSPECTS: usize = 6;
 /// Two channels are swapped when exchanging them brings their summed
 /// misfit under this share of what it was.
 pub const SWAP_GAIN: f64 = 0.25;
+/// Two outlying channels whose exchange brings their summed misfit under
+/// this share of what it was, but not under [`SWAP_GAIN`], are judged
+/// again against a deck updated without them ([`Judged::doubtful`]).
+pub const DOUBT_GAIN: f64 = 0.5;
 
 /// One channel's measured FRF against a predicted one, over the lines
 /// above the measured channel's noise floor.
@@ -143,6 +147,22 @@ fn judge(r: Option<LineRatio>, centre: f64) -> Verdict {
 /// others [`Verdict::Undecided`]) against `model` (`[channel][line]`, the
 /// same lines): swapped pairs first, then each channel's gain and sign.
 pub fn verdicts(data: &TestData, model: &[Vec<c64>], live: &[bool]) -> Vec<Verdict> {
+    judge_channels(data, model, live).verdicts
+}
+
+/// The verdicts of [`verdicts`], and the channels they leave in doubt.
+pub struct Judged {
+    pub verdicts: Vec<Verdict>,
+    /// Outlying channels (see [`swapped_pairs`]) that two by two come close
+    /// to the swap test without passing it: exchanging them lowers their
+    /// misfit below [`DOUBT_GAIN`] of what it was, but not below
+    /// [`SWAP_GAIN`]. A model fitted on those channels as measured is no
+    /// fair judge of them: wrong data pull the update towards them.
+    pub doubtful: Vec<usize>,
+}
+
+/// [`verdicts`], with the channels they leave in doubt.
+pub fn judge_channels(data: &TestData, model: &[Vec<c64>], live: &[bool]) -> Judged {
     let nc = data.channels.len();
     let ratio = |t: usize, m: usize| line_ratio(&data.values[t], &model[m], &data.weight[t]);
     let own: Vec<Option<LineRatio>> = (0..nc)
@@ -150,32 +170,41 @@ pub fn verdicts(data: &TestData, model: &[Vec<c64>], live: &[bool]) -> Vec<Verdi
         .collect();
     let gains: Vec<f64> = own.iter().flatten().map(|r| r.log_gain).collect();
     let Some(centre) = median(&gains) else {
-        return vec![Verdict::Undecided; nc];
+        return Judged {
+            verdicts: vec![Verdict::Undecided; nc],
+            doubtful: Vec::new(),
+        };
     };
     let mut out: Vec<Verdict> = own.iter().map(|r| judge(*r, centre)).collect();
-    for (a, b) in swapped_pairs(&own, &ratio) {
+    let (pairs, doubtful) = swapped_pairs(&own, &ratio);
+    for (a, b) in pairs {
         out[a] = Verdict::Wrong(DataErrorKind::Swapped { other: b });
         out[b] = Verdict::Wrong(DataErrorKind::Swapped { other: a });
     }
-    out
+    Judged {
+        verdicts: out,
+        doubtful,
+    }
 }
 
 /// Channels that fit each other's place: among the [`SWAP_SUSPECTS`]
 /// channels of largest misfit that stand out (above [`OUTLIER`] × the
 /// median of the others but the two largest), the pairs whose misfits exchanged fall below
-/// [`SWAP_GAIN`] × their own, the clearest first, each channel in one pair.
+/// [`SWAP_GAIN`] × their own, the clearest first, each channel in one pair;
+/// and the suspects of pairs below [`DOUBT_GAIN`] that none of those
+/// pairs takes ([`Judged::doubtful`]).
 /// `ratio(t, m)`: measured channel t against predicted channel m.
 fn swapped_pairs(
     own: &[Option<LineRatio>],
     ratio: &dyn Fn(usize, usize) -> Option<LineRatio>,
-) -> Vec<(usize, usize)> {
+) -> (Vec<(usize, usize)>, Vec<usize>) {
     // The typical misfit is the median without the two largest (a swapped
     // pair is two of a campaign's few channels).
     let mut misfits: Vec<f64> = own.iter().flatten().map(|r| r.misfit).collect();
     misfits.sort_by(|a, b| a.total_cmp(b));
     misfits.truncate(misfits.len().saturating_sub(2));
     let Some(typical) = median(&misfits) else {
-        return Vec::new();
+        return (Vec::new(), Vec::new());
     };
     let mut suspects: Vec<(f64, usize)> = own
         .iter()
@@ -190,7 +219,7 @@ fn swapped_pairs(
         for &(mb, b) in &suspects[i + 1..] {
             if let (Some(ab), Some(ba)) = (ratio(a, b), ratio(b, a)) {
                 let gain = (ab.misfit + ba.misfit) / (ma + mb);
-                if gain < SWAP_GAIN {
+                if gain < DOUBT_GAIN {
                     pairs.push((gain, a.min(b), a.max(b)));
                 }
             }
@@ -199,13 +228,21 @@ fn swapped_pairs(
     pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
     let mut taken: Vec<usize> = Vec::new();
     let mut out = Vec::new();
-    for (_, a, b) in pairs {
+    for &(_, a, b) in pairs.iter().filter(|p| p.0 < SWAP_GAIN) {
         if !taken.contains(&a) && !taken.contains(&b) {
             taken.extend([a, b]);
             out.push((a, b));
         }
     }
-    out
+    let mut doubtful: Vec<usize> = pairs
+        .iter()
+        .filter(|p| p.0 >= SWAP_GAIN)
+        .flat_map(|p| [p.1, p.2])
+        .filter(|c| !taken.contains(c))
+        .collect();
+    doubtful.sort_unstable();
+    doubtful.dedup();
+    (out, doubtful)
 }
 
 /// The data errors of `data` from the modal checks (`modal`) and the line
