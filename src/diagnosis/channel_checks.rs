@@ -13,6 +13,8 @@ use super::data::TestData;
 use super::data_errors::{self, lines, DataError, DataErrorKind};
 use super::first_stage::{self, FirstStage};
 use super::fit::{self, Mask};
+use super::greedy::Greedy;
+use super::refit::JointFit;
 use super::search::{self, Search};
 use super::select::{Engine, FitRequest};
 use super::{DiagnoseError, DiagnoseOptions};
@@ -50,14 +52,14 @@ pub(super) fn check(
         match predicted(&engine, &search, &first.deck, measured) {
             Some(model) => {
                 let mut judged = lines::judge_channels(measured, &model, &live);
-                let again = Again {
+                let source = Source {
                     deck,
                     column,
                     measured,
                     roving,
                     opts,
                 };
-                evaluations += again.judge_doubtful(&modal, &live, &mut judged)?;
+                evaluations += source.judge_doubtful(&modal, &live, &mut judged)?;
                 lines::reconcile(&modal, &judged.verdicts)
             }
             None => modal.clone(),
@@ -83,17 +85,18 @@ pub(super) fn check(
     })
 }
 
-/// What the channels in doubt are judged again on: the deck, the test
-/// (`column`, as placed: `measured`), its layout and the options.
-struct Again<'a> {
-    deck: &'a Deck,
-    column: &'a MeasuredFrfs,
-    measured: &'a TestData,
-    roving: bool,
-    opts: &'a DiagnoseOptions,
+/// The test a diagnosis is prepared from, to be corrected again: the
+/// deck, the test as a column (`column`; as placed: `measured`), its
+/// layout and the options.
+pub(super) struct Source<'a> {
+    pub deck: &'a Deck,
+    pub column: &'a MeasuredFrfs,
+    pub measured: &'a TestData,
+    pub roving: bool,
+    pub opts: &'a DiagnoseOptions,
 }
 
-impl Again<'_> {
+impl Source<'_> {
     /// The channels the line verdicts leave in doubt ([`lines::Judged`])
     /// judged again against the deck updated without them (on the test the
     /// modal checks corrected, those channels dropped): wrong data pull an
@@ -211,6 +214,60 @@ pub(super) fn sound_as_measured(
         .filter(|e| judged(e) && verdicts[e.channel] == lines::Verdict::Sound)
         .cloned()
         .collect()
+}
+
+/// The reversed and scaled channels among `errors` that the extensions
+/// found fit as measured, on equal terms: the accepted extensions' values
+/// and the damping fitted again with the channel as measured
+/// ([`Greedy::refitted_on`]) fit every channel at least as well as the
+/// same fit with the channel corrected. A missing effect can make a channel
+/// look off by a unit factor against the deck that lacks it (a support
+/// spring in x multiplies a sensor's x response by about 3.3 over the
+/// band); the spring then fitted to the corrected channel is pulled off its
+/// value, and against that model the channel still looks wrong. Returns the
+/// errors to undo no more, with the extensions' fit on the test that
+/// leaves them as measured; model solutions are counted on `engine`.
+pub(super) fn fitted_as_measured(
+    g: &Greedy,
+    engine: &Engine,
+    test: &Source,
+    errors: &[DataError],
+) -> Result<Option<(Vec<DataError>, JointFit)>, DiagnoseError> {
+    let judged = |e: &&DataError| {
+        matches!(
+            e.kind,
+            DataErrorKind::Reversed { .. } | DataErrorKind::Scale { .. }
+        )
+    };
+    if !errors.iter().any(|e| judged(&e)) {
+        return Ok(None);
+    }
+    let Some(corrected_fit) = g.refitted_on(engine) else {
+        return Ok(None);
+    };
+    let refit_without = |restored: &[DataError]| -> Result<Option<JointFit>, DiagnoseError> {
+        let kept: Vec<DataError> = errors
+            .iter()
+            .filter(|e| !restored.contains(e))
+            .cloned()
+            .collect();
+        let (_, data) = corrected(test.deck, test.column, test.measured, test.roving, &kept)?;
+        let other = Engine::new(&data);
+        let fit = g.refitted_on(&other);
+        engine.spend(other.spent());
+        Ok(fit)
+    };
+    let mut restored = Vec::new();
+    for e in errors.iter().filter(judged) {
+        let as_measured = refit_without(std::slice::from_ref(e))?;
+        if as_measured.is_some_and(|f| f.cost <= corrected_fit.cost) {
+            restored.push(e.clone());
+        }
+    }
+    if restored.is_empty() {
+        return Ok(None);
+    }
+    Ok(refit_without(&restored)?.map(|fit| (restored, fit)))
 }
 
 /// Per channel of `measured`: not found dead among `errors`.

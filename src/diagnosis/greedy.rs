@@ -489,6 +489,38 @@ impl Greedy {
         }
     }
 
+    /// The accepted extensions' values and the damping fitted again on all
+    /// the data of `engine` from their current values, the deck's
+    /// parameters as they are (`None` when no accepted extension has a
+    /// value, or no model results).
+    pub(super) fn refitted_on(&self, engine: &Engine) -> Option<refit::JointFit> {
+        let logs: Vec<f64> = self
+            .accepted
+            .iter()
+            .filter_map(|a| a.1.map(f64::ln))
+            .collect();
+        if logs.is_empty() {
+            return None;
+        }
+        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
+        let settings = refit::JointSettings {
+            frequency_stage: false,
+            iterations: 8,
+        };
+        let problem = refit::Joint::new(&self.base, hyps);
+        let starts = std::slice::from_ref(&logs);
+        refit::fit_joint(engine, &problem, starts, &self.damp, &engine.all, settings)
+    }
+
+    /// Take the values and the damping of `jf`, a fit of
+    /// [`Self::refitted_on`].
+    pub(super) fn take_refit(&mut self, jf: &refit::JointFit) {
+        set_values(&mut self.accepted, &mut self.findings, jf);
+        self.current = apply_accepted(&self.base, &self.accepted);
+        self.damp = jf.damping.clone();
+        self.cost = jf.cost;
+    }
+
     /// The damping form may have compensated for what was missing: another
     /// form whose cost is lower replaces the current one.
     fn choose_damping_form_again(&mut self, search: &Search) {

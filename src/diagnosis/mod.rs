@@ -269,12 +269,27 @@ pub fn diagnose_with_progress(
     stage("fitting the damping of the extended model");
     let damp = final_damping::choose_form_again(&search, &g.current, g.damp.clone());
     let final_fit = final_damping::fit_final_damping(&search, &g.current, &damp)?;
-    let restored = channel_checks::sound_as_measured(
+    let mut g = g;
+    let mut restored = channel_checks::sound_as_measured(
         &g.current,
         final_fit.damping.damping(),
         &measured,
         &checked,
     );
+    let source = channel_checks::Source {
+        deck,
+        column: &column,
+        measured: &measured,
+        roving,
+        opts,
+    };
+    if restored.is_empty() {
+        if let Some((r, fit)) = channel_checks::fitted_as_measured(&g, &engine, &source, &checked)?
+        {
+            g.take_refit(&fit);
+            restored = r;
+        }
+    }
     let before = Before {
         initial,
         updated,
@@ -288,11 +303,7 @@ pub fn diagnose_with_progress(
         return Ok(d);
     }
     let retest = Retest {
-        deck,
-        column: &column,
-        measured: &measured,
-        roving,
-        opts,
+        source: &source,
         checked: &checked,
         restored: &restored,
     };
@@ -303,11 +314,7 @@ pub fn diagnose_with_progress(
 
 /// The test the diagnosis was prepared from, to be corrected again.
 struct Retest<'a> {
-    deck: &'a Deck,
-    column: &'a MeasuredFrfs,
-    measured: &'a TestData,
-    roving: bool,
-    opts: &'a DiagnoseOptions,
+    source: &'a channel_checks::Source<'a>,
     /// The data errors found, and those of them to undo no more.
     checked: &'a [data_errors::DataError],
     restored: &'a [data_errors::DataError],
@@ -332,19 +339,21 @@ fn finish_restored(
         .filter(|e| !t.restored.contains(e))
         .cloned()
         .collect();
-    let (test, data) = channel_checks::corrected(t.deck, t.column, t.measured, t.roving, &kept)?;
+    let src = t.source;
+    let (test, data) =
+        channel_checks::corrected(src.deck, src.column, src.measured, src.roving, &kept)?;
     let engine = Engine::new(&data);
-    let search = Search::new(&engine, t.deck, &test, t.opts);
+    let search = Search::new(&engine, src.deck, &test, src.opts);
     let final_fit = final_damping::fit_final_damping(&search, &g.current, &final_fit.damping)?;
-    let findings = data_error_findings(t.deck, t.measured, &search, &kept);
+    let findings = data_error_findings(src.deck, src.measured, &search, &kept);
     let before = Before {
-        initial: quality(&engine, t.deck, &search.start_damping)?,
+        initial: quality(&engine, src.deck, &search.start_damping)?,
         updated: quality(&engine, &before.first.deck, &search.start_damping)?,
         evaluations: spent,
         ..before
     };
     g.rejected.extend(t.restored.iter().filter_map(|e| {
-        let f = data_errors::finding(e, t.measured, f64::NAN, f64::NAN)?;
+        let f = data_errors::finding(e, src.measured, f64::NAN, f64::NAN)?;
         Some(Rejected {
             label: f.label,
             round: 0,

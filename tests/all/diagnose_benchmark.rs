@@ -522,3 +522,41 @@ fn a_swap_that_pulls_the_update_is_judged_against_a_deck_updated_without_it() {
         s.reported
     );
 }
+
+/// Case 272 of the seed-1 set: a pinned space frame on a support spring in
+/// x at node 1 (a roving-hammer test, 23 points), nothing else missing.
+/// Against the deck without the spring, channel 14+x is 3.3 times what the
+/// deck predicts, uniformly over the band, which the checks read as a
+/// mix-up of feet and metres; the spring found afterwards was fitted to the
+/// channel divided by 3.281 (k 2.9e8 for 1.58e8) and against that model
+/// the channel still looked wrong: a false `channel-scale` beside the right
+/// spring, 35× the noise left. The spring refitted with the channel as
+/// measured now fits every channel better than with it corrected, so the
+/// channel is restored (listed as rejected, with the reason).
+#[test]
+fn a_channel_the_found_spring_fits_as_measured_is_restored() {
+    let (s, json, error) = diagnosed(272);
+    assert_eq!(
+        s.reported,
+        vec![("support-flexibility".to_string(), vec![1])],
+        "{:?}",
+        s.reported
+    );
+    assert!(s.false_findings.is_empty(), "{:?}", s.false_findings);
+    assert_eq!(s.effects[0].value_ok, Some(true), "{:?}", s.effects[0]);
+    let restored = json["rejected"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| {
+            r["reason"]
+                .as_str()
+                .unwrap()
+                .contains("fits the channel as measured")
+        })
+        .count();
+    assert_eq!(restored, 1, "{:?}", json["rejected"]);
+    // Measured 2.05× the noise (before: 35×); the deck's parameters were
+    // updated on the channel as corrected.
+    assert!(error < 3.0, "{error}");
+}
