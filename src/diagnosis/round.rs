@@ -527,21 +527,24 @@ fn refit_with_deck_parameters(
 }
 
 /// The added-mass candidates at the nodes that share a beam with the
-/// best-fitted added mass, when it is among the five best fits (those
+/// best-fitted point mass (an added mass, or the sensor mass of a test with
+/// one sensor), when it is among the five best fits (those
 /// cross-validated) and the screen did not choose them. Linear probes place
 /// a point mass only to within a node or two along a member (seed-1
 /// benchmark case 017: a 0.12 kg mass at node 70 screened at 72, whose fit
-/// validates at 18.3 where node 71's does at 4.2); the fits decide.
+/// validates at 18.3 where node 71's does at 4.2); the fits decide. A
+/// mass beside a roving-hammer test's one sensor is screened as the sensor
+/// mass (case 174: 3.42 kg at node 87 reported as the sensor's at 86, the
+/// added mass at 87 never fitted).
 fn beside_best_added_mass(
     screened: &Screened,
     fitted: &[(Hypothesis, HypFit)],
     deck: &Deck,
 ) -> Vec<Hypothesis> {
-    let Some((best, _)) = fitted
-        .iter()
-        .take(5)
-        .find(|(h, _)| h.physics == Physics::AddedMass)
-    else {
+    let point_mass = |h: &Hypothesis| {
+        h.physics == Physics::AddedMass || (h.physics == Physics::SensorMass && h.nodes.len() == 1)
+    };
+    let Some((best, _)) = fitted.iter().take(5).find(|(h, _)| point_mass(h)) else {
         return Vec::new();
     };
     let node = best.nodes[0];

@@ -560,3 +560,30 @@ fn a_channel_the_found_spring_fits_as_measured_is_restored() {
     // updated on the channel as corrected.
     assert!(error < 3.0, "{error}");
 }
+
+/// Case 174 of the seed-1 set: a pinned portal with a support spring in z
+/// at node 1 and an added mass of 3.42 kg at node 87, beside node 86 where
+/// the roving-hammer test's one accelerometer sits (10 hammer points). The
+/// screen placed the mass on the sensor, and the added masses beside it
+/// were never fitted: "sensor-mass at node 86, 3.21 kg" was reported, a
+/// false finding with the mass missed. The added masses beside a
+/// one-sensor mass are now fitted too, as those beside the best added mass.
+#[test]
+fn a_mass_beside_the_one_sensor_is_fitted_at_its_node() {
+    let (s, _) = right_at_noise_level(174);
+    assert_eq!(
+        s.reported,
+        vec![
+            ("support-flexibility".to_string(), vec![1]),
+            ("added-mass".to_string(), vec![87])
+        ],
+        "{:?}",
+        s.reported
+    );
+    // Measured 3.353 kg for 3.42 (20 % is the benchmark's tolerance).
+    assert!(
+        s.effects.iter().all(|e| e.value_ok == Some(true)),
+        "{:?}",
+        s.effects
+    );
+}
