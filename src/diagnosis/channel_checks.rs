@@ -4,8 +4,11 @@
 //! corrected. The second pass sees what the first had no evidence for (few
 //! modes in the band, a channel near their nodal points, two wrong
 //! channels in one campaign) and overrules it where the lines decide.
-//! After the search, the reversed and scaled channels are judged a third
-//! time, against the diagnosed model ([`sound_as_measured`]).
+//! Two outlying channels that nearly pass the lines' swap test are judged
+//! again against the deck updated without them ([`Source`]). After the
+//! search, the reversed and scaled channels are judged a third time,
+//! against the diagnosed model ([`sound_as_measured`]), then on equal
+//! terms with the extensions refitted as measured ([`fitted_as_measured`]).
 
 use frfup_parsers::deck::Deck;
 
@@ -114,23 +117,40 @@ impl Source<'_> {
         if doubtful.is_empty() || kept < 4 {
             return Ok(0);
         }
+        // The update runs on the test with what the checks found so far
+        // undone (the lines' verdicts on the other channels included) and
+        // the doubtful channels dropped.
         let touches = |e: &DataError| {
             doubtful.contains(&e.channel)
                 || matches!(e.kind, DataErrorKind::Swapped { other } if doubtful.contains(&other))
         };
-        let mut without: Vec<DataError> = modal.iter().filter(|e| !touches(e)).cloned().collect();
+        let mut without: Vec<DataError> = lines::reconcile(modal, &judged.verdicts)
+            .into_iter()
+            .filter(|e| !touches(e))
+            .collect();
         without.extend(doubtful.iter().map(|&channel| DataError {
             channel,
             kind: DataErrorKind::Dead { snr: 0.0 },
         }));
-        let (test, data) = corrected(self.deck, self.column, self.measured, self.roving, &without)?;
+        // A judgement that only adds evidence: if the test cannot be
+        // prepared without those channels, the first verdicts stand.
+        let Ok((test, data)) =
+            corrected(self.deck, self.column, self.measured, self.roving, &without)
+        else {
+            return Ok(0);
+        };
         let engine = Engine::new(&data);
         let search = Search::new(&engine, self.deck, &test, self.opts);
         let first = first_stage::update_own_parameters(&search);
         if let Some(model) = predicted(&engine, &search, &first.deck, self.measured) {
             let again = lines::judge_channels(self.measured, &model, live);
             for &c in &doubtful {
-                judged.verdicts[c] = again.verdicts[c].clone();
+                // A swap is taken only whole: with another channel in doubt.
+                let v = &again.verdicts[c];
+                let half = matches!(v, lines::Verdict::Wrong(DataErrorKind::Swapped { other }) if !doubtful.contains(other));
+                if !half {
+                    judged.verdicts[c] = v.clone();
+                }
             }
         }
         Ok(engine.spent())
@@ -219,20 +239,23 @@ pub(super) fn sound_as_measured(
 /// The reversed and scaled channels among `errors` that the extensions
 /// found fit as measured, on equal terms: the accepted extensions' values
 /// and the damping fitted again with the channel as measured
-/// ([`Greedy::refitted_on`]) fit every channel at least as well as the
-/// same fit with the channel corrected. A missing effect can make a channel
-/// look off by a unit factor against the deck that lacks it (a support
-/// spring in x multiplies a sensor's x response by about 3.3 over the
-/// band); the spring then fitted to the corrected channel is pulled off its
-/// value, and against that model the channel still looks wrong. Returns the
-/// errors to undo no more, with the extensions' fit on the test that
-/// leaves them as measured; model solutions are counted on `engine`.
+/// ([`Greedy::refitted_on`]) fit the test (mean squared weighted residual
+/// over every channel and line) at least as well as the same fit with the
+/// channel corrected, with no value on a bound. A missing effect can make
+/// a channel look off by a unit factor against the deck that lacks it (a
+/// support spring in x multiplies a sensor's x response by about 3.3 over
+/// the band); the spring then fitted to the corrected channel is pulled off
+/// its value, and against that model the channel still looks wrong.
+/// Returns the errors to undo no more, with the extensions' fit on the
+/// test that leaves them all as measured (itself no worse than the
+/// corrected one); model solutions are counted on `engine`. A test that
+/// cannot be prepared again leaves the corrections as they are.
 pub(super) fn fitted_as_measured(
     g: &Greedy,
     engine: &Engine,
-    test: &Source,
+    source: &Source,
     errors: &[DataError],
-) -> Result<Option<(Vec<DataError>, JointFit)>, DiagnoseError> {
+) -> Option<(Vec<DataError>, JointFit)> {
     let judged = |e: &&DataError| {
         matches!(
             e.kind,
@@ -240,34 +263,33 @@ pub(super) fn fitted_as_measured(
         )
     };
     if !errors.iter().any(|e| judged(&e)) {
-        return Ok(None);
+        return None;
     }
-    let Some(corrected_fit) = g.refitted_on(engine) else {
-        return Ok(None);
-    };
-    let refit_without = |restored: &[DataError]| -> Result<Option<JointFit>, DiagnoseError> {
+    let corrected_fit = g.refitted_on(engine)?;
+    let no_worse = |f: &JointFit| f.cost <= corrected_fit.cost && !f.on_bound.iter().any(|b| *b);
+    let refit_without = |restored: &[DataError]| -> Option<JointFit> {
         let kept: Vec<DataError> = errors
             .iter()
             .filter(|e| !restored.contains(e))
             .cloned()
             .collect();
-        let (_, data) = corrected(test.deck, test.column, test.measured, test.roving, &kept)?;
+        let src = source;
+        let (_, data) = corrected(src.deck, src.column, src.measured, src.roving, &kept).ok()?;
         let other = Engine::new(&data);
         let fit = g.refitted_on(&other);
         engine.spend(other.spent());
-        Ok(fit)
+        fit.filter(no_worse)
     };
-    let mut restored = Vec::new();
-    for e in errors.iter().filter(judged) {
-        let as_measured = refit_without(std::slice::from_ref(e))?;
-        if as_measured.is_some_and(|f| f.cost <= corrected_fit.cost) {
-            restored.push(e.clone());
-        }
-    }
+    let restored: Vec<DataError> = errors
+        .iter()
+        .filter(judged)
+        .filter(|e| refit_without(std::slice::from_ref(e)).is_some())
+        .cloned()
+        .collect();
     if restored.is_empty() {
-        return Ok(None);
+        return None;
     }
-    Ok(refit_without(&restored)?.map(|fit| (restored, fit)))
+    refit_without(&restored).map(|fit| (restored, fit))
 }
 
 /// Per channel of `measured`: not found dead among `errors`.

@@ -453,27 +453,11 @@ impl Greedy {
         if self.accepted.len() <= 1 {
             return;
         }
-        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
-        let logs: Vec<f64> = self
-            .accepted
-            .iter()
-            .filter_map(|a| a.1.map(f64::ln))
-            .collect();
-        let settings = refit::JointSettings {
-            frequency_stage: false,
-            iterations: 8,
-        };
-        let problem = refit::Joint::new(&self.base, hyps);
-        let Some(jf) = refit::fit_joint(
-            engine,
-            &problem,
-            std::slice::from_ref(&logs),
-            &self.damp,
-            &engine.all,
-            settings,
-        ) else {
+        let Some(jf) = self.joint_refit(engine) else {
             return;
         };
+        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
+        let problem = refit::Joint::new(&self.base, hyps);
         if jf.cost < self.cost && !jf.on_bound.iter().any(|b| *b) {
             let vj = refit::validate_joint(engine, &problem, &jf);
             if vj <= self.v {
@@ -494,15 +478,21 @@ impl Greedy {
     /// parameters as they are (`None` when no accepted extension has a
     /// value, or no model results).
     pub(super) fn refitted_on(&self, engine: &Engine) -> Option<refit::JointFit> {
+        if self.accepted.iter().all(|a| a.1.is_none()) {
+            return None;
+        }
+        self.joint_refit(engine)
+    }
+
+    /// The joint fit of [`Self::refitted_on`] (also with no value to fit:
+    /// then the damping alone).
+    fn joint_refit(&self, engine: &Engine) -> Option<refit::JointFit> {
+        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
         let logs: Vec<f64> = self
             .accepted
             .iter()
             .filter_map(|a| a.1.map(f64::ln))
             .collect();
-        if logs.is_empty() {
-            return None;
-        }
-        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
         let settings = refit::JointSettings {
             frequency_stage: false,
             iterations: 8,

@@ -284,8 +284,7 @@ pub fn diagnose_with_progress(
         opts,
     };
     if restored.is_empty() {
-        if let Some((r, fit)) = channel_checks::fitted_as_measured(&g, &engine, &source, &checked)?
-        {
+        if let Some((r, fit)) = channel_checks::fitted_as_measured(&g, &engine, &source, &checked) {
             g.take_refit(&fit);
             restored = r;
         }

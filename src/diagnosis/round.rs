@@ -99,7 +99,7 @@ pub(super) fn search_round(
             .map_or(f64::INFINITY, |f| f.cost),
     );
     refit_with_deck_parameters(engine, &cur, &mut fitted, &placed);
-    let beside = beside_best_added_mass(&screened, &fitted, cur.deck);
+    let beside = beside_best_point_mass(&screened, &fitted, cur.deck);
     if !beside.is_empty() {
         let mut more = fit_in_full(engine, &cur, beside);
         refit_with_deck_parameters(engine, &cur, &mut more, &[]);
@@ -527,33 +527,40 @@ fn refit_with_deck_parameters(
 }
 
 /// The added-mass candidates at the nodes that share a beam with the
-/// best-fitted point mass (an added mass, or the sensor mass of a test with
-/// one sensor), when it is among the five best fits (those
-/// cross-validated) and the screen did not choose them. Linear probes place
-/// a point mass only to within a node or two along a member (seed-1
-/// benchmark case 017: a 0.12 kg mass at node 70 screened at 72, whose fit
-/// validates at 18.3 where node 71's does at 4.2); the fits decide. A
-/// mass beside a roving-hammer test's one sensor is screened as the sensor
-/// mass (case 174: 3.42 kg at node 87 reported as the sensor's at 86, the
-/// added mass at 87 never fitted).
-fn beside_best_added_mass(
+/// best-fitted added mass, and with the sensor mass of a test with one
+/// sensor, when they are among the five best fits (those cross-validated)
+/// and the screen did not choose them. Linear probes place a point mass
+/// only to within a node or two along a member (seed-1 benchmark case 017:
+/// a 0.12 kg mass at node 70 screened at 72, whose fit validates at 18.3
+/// where node 71's does at 4.2); the fits decide. A mass beside a
+/// roving-hammer test's one sensor is screened as the sensor mass (case
+/// 174: 3.42 kg at node 87 reported as the sensor's at 86, the added mass
+/// at 87 never fitted).
+fn beside_best_point_mass(
     screened: &Screened,
     fitted: &[(Hypothesis, HypFit)],
     deck: &Deck,
 ) -> Vec<Hypothesis> {
-    let point_mass = |h: &Hypothesis| {
-        h.physics == Physics::AddedMass || (h.physics == Physics::SensorMass && h.nodes.len() == 1)
+    let best_of = |point_mass: &dyn Fn(&Hypothesis) -> bool| {
+        fitted
+            .iter()
+            .take(5)
+            .find(|(h, _)| point_mass(h))
+            .map(|(h, _)| h.nodes[0])
     };
-    let Some((best, _)) = fitted.iter().take(5).find(|(h, _)| point_mass(h)) else {
-        return Vec::new();
-    };
-    let node = best.nodes[0];
+    let centres: Vec<u32> = [
+        best_of(&|h| h.physics == Physics::AddedMass),
+        best_of(&|h| h.physics == Physics::SensorMass && h.nodes.len() == 1),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     let beside: Vec<u32> = deck
         .beams
         .iter()
-        .filter(|b| b.nodes.contains(&node))
+        .filter(|b| centres.iter().any(|c| b.nodes.contains(c)))
         .flat_map(|b| b.nodes.iter().copied())
-        .filter(|&n| n != node)
+        .filter(|n| !centres.contains(n))
         .collect();
     screened.candidates[..screened.n_main]
         .iter()
