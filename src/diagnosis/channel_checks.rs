@@ -34,16 +34,17 @@ pub(super) struct Checked {
     pub evaluations: usize,
 }
 
-/// Both passes on `measured` (the channels of `column` the deck places).
-pub(super) fn check(
-    deck: &Deck,
-    column: &MeasuredFrfs,
-    measured: &TestData,
-    roving: bool,
-    opts: &DiagnoseOptions,
-) -> Result<Checked, DiagnoseError> {
+/// Both passes on the test of `source` (the channels of its column the
+/// deck places).
+pub(super) fn check(source: &Source) -> Result<Checked, DiagnoseError> {
+    let Source {
+        deck,
+        measured,
+        opts,
+        ..
+    } = *source;
     let modal = data_errors::check(measured, &fit::modal_model(deck, measured)?);
-    let (test, data) = corrected(deck, column, measured, roving, &modal)?;
+    let (test, data) = source.corrected(&modal)?;
     let engine = Engine::new(&data);
     let search = Search::new(&engine, deck, &test, opts);
     let first = first_stage::update_own_parameters(&search);
@@ -55,13 +56,6 @@ pub(super) fn check(
         match predicted(&engine, &search, &first.deck, measured) {
             Some(model) => {
                 let mut judged = lines::judge_channels(measured, &model, &live);
-                let source = Source {
-                    deck,
-                    column,
-                    measured,
-                    roving,
-                    opts,
-                };
                 evaluations += source.judge_doubtful(&modal, &live, &mut judged)?;
                 lines::reconcile(&modal, &judged.verdicts)
             }
@@ -78,7 +72,7 @@ pub(super) fn check(
             evaluations,
         });
     }
-    let (test, data) = corrected(deck, column, measured, roving, &errors)?;
+    let (test, data) = source.corrected(&errors)?;
     Ok(Checked {
         errors,
         test,
@@ -100,6 +94,19 @@ pub(super) struct Source<'a> {
 }
 
 impl Source<'_> {
+    /// The test's column with `errors` undone, and its fitting data.
+    pub fn corrected(
+        &self,
+        errors: &[DataError],
+    ) -> Result<(MeasuredFrfs, TestData), DiagnoseError> {
+        if errors.is_empty() {
+            return Ok((self.column.clone(), self.measured.clone()));
+        }
+        let fixed = data_errors::correct::corrected(self.column, self.measured, errors);
+        let (data, _) = search::placed_test_data(self.deck, &fixed, self.roving)?;
+        Ok((fixed, data))
+    }
+
     /// The channels the line verdicts leave in doubt ([`lines::Judged`])
     /// judged again against the deck updated without them (on the test the
     /// modal checks corrected, those channels dropped): wrong data pull an
@@ -134,9 +141,7 @@ impl Source<'_> {
         }));
         // A judgement that only adds evidence: if the test cannot be
         // prepared without those channels, the first verdicts stand.
-        let Ok((test, data)) =
-            corrected(self.deck, self.column, self.measured, self.roving, &without)
-        else {
+        let Ok((test, data)) = self.corrected(&without) else {
             return Ok(0);
         };
         let engine = Engine::new(&data);
@@ -155,22 +160,6 @@ impl Source<'_> {
         }
         Ok(engine.spent())
     }
-}
-
-/// `column` with `errors` undone, and its fitting data.
-pub(super) fn corrected(
-    deck: &Deck,
-    column: &MeasuredFrfs,
-    measured: &TestData,
-    roving: bool,
-    errors: &[DataError],
-) -> Result<(MeasuredFrfs, TestData), DiagnoseError> {
-    if errors.is_empty() {
-        return Ok((column.clone(), measured.clone()));
-    }
-    let fixed = data_errors::correct::corrected(column, measured, errors);
-    let (data, _) = search::placed_test_data(deck, &fixed, roving)?;
-    Ok((fixed, data))
 }
 
 /// The FRFs of `deck` at every channel of `measured`, with the damping
@@ -215,12 +204,7 @@ pub(super) fn sound_as_measured(
     measured: &TestData,
     errors: &[DataError],
 ) -> Vec<DataError> {
-    let judged = |e: &DataError| {
-        matches!(
-            e.kind,
-            DataErrorKind::Reversed { .. } | DataErrorKind::Scale { .. }
-        )
-    };
+    let judged = |e: &DataError| judged_again(e);
     if !errors.iter().any(judged) {
         return Vec::new();
     }
@@ -256,13 +240,7 @@ pub(super) fn fitted_as_measured(
     source: &Source,
     errors: &[DataError],
 ) -> Option<(Vec<DataError>, JointFit)> {
-    let judged = |e: &&DataError| {
-        matches!(
-            e.kind,
-            DataErrorKind::Reversed { .. } | DataErrorKind::Scale { .. }
-        )
-    };
-    if !errors.iter().any(|e| judged(&e)) {
+    if !errors.iter().any(judged_again) {
         return None;
     }
     let corrected_fit = g.refitted_on(engine)?;
@@ -273,23 +251,37 @@ pub(super) fn fitted_as_measured(
             .filter(|e| !restored.contains(e))
             .cloned()
             .collect();
-        let src = source;
-        let (_, data) = corrected(src.deck, src.column, src.measured, src.roving, &kept).ok()?;
+        let (_, data) = source.corrected(&kept).ok()?;
         let other = Engine::new(&data);
         let fit = g.refitted_on(&other);
         engine.spend(other.spent());
         fit.filter(no_worse)
     };
-    let restored: Vec<DataError> = errors
+    let mut restored: Vec<(DataError, JointFit)> = errors
         .iter()
-        .filter(judged)
-        .filter(|e| refit_without(std::slice::from_ref(e)).is_some())
-        .cloned()
+        .filter(|e| judged_again(e))
+        .filter_map(|e| Some((e.clone(), refit_without(std::slice::from_ref(e))?)))
         .collect();
-    if restored.is_empty() {
-        return None;
+    match restored.len() {
+        0 => None,
+        // One channel: its own refit is the fit with it as measured.
+        1 => restored.pop().map(|(e, fit)| (vec![e], fit)),
+        _ => {
+            let errors: Vec<DataError> = restored.into_iter().map(|(e, _)| e).collect();
+            refit_without(&errors).map(|fit| (errors, fit))
+        }
     }
-    refit_without(&restored).map(|fit| (restored, fit))
+}
+
+/// A reversed or scaled channel: the corrections judged again after the
+/// search ([`sound_as_measured`], [`fitted_as_measured`]). Swaps and dead
+/// channels are not (a neighbour fits a swapped channel's place nearly as
+/// well as its own; a dead channel holds no response).
+fn judged_again(e: &DataError) -> bool {
+    matches!(
+        e.kind,
+        DataErrorKind::Reversed { .. } | DataErrorKind::Scale { .. }
+    )
 }
 
 /// Per channel of `measured`: not found dead among `errors`.

@@ -225,6 +225,13 @@ pub fn diagnose_with_progress(
     let (column, layout) = crate::testdata::layout::as_column(test);
     let roving = matches!(layout, crate::testdata::layout::Layout::RovingHammer { .. });
     let (measured, mut ignored_channels) = search::placed_test_data(deck, &column, roving)?;
+    let source = channel_checks::Source {
+        deck,
+        column: &column,
+        measured: &measured,
+        roving,
+        opts,
+    };
     // Data errors before physics: the rest runs on the corrected test.
     stage("checking each channel");
     let channel_checks::Checked {
@@ -233,7 +240,7 @@ pub fn diagnose_with_progress(
         data,
         first: first_on_checked,
         evaluations: check_evaluations,
-    } = channel_checks::check(deck, &column, &measured, roving, opts)?;
+    } = channel_checks::check(&source)?;
     let test = &test;
     let engine = Engine::new(&data);
     engine.spend(check_evaluations);
@@ -276,13 +283,6 @@ pub fn diagnose_with_progress(
         &measured,
         &checked,
     );
-    let source = channel_checks::Source {
-        deck,
-        column: &column,
-        measured: &measured,
-        roving,
-        opts,
-    };
     if restored.is_empty() {
         if let Some((r, fit)) = channel_checks::fitted_as_measured(&g, &engine, &source, &checked) {
             g.take_refit(&fit);
@@ -339,8 +339,7 @@ fn finish_restored(
         .cloned()
         .collect();
     let src = t.source;
-    let (test, data) =
-        channel_checks::corrected(src.deck, src.column, src.measured, src.roving, &kept)?;
+    let (test, data) = src.corrected(&kept)?;
     let engine = Engine::new(&data);
     let search = Search::new(&engine, src.deck, &test, src.opts);
     let final_fit = final_damping::fit_final_damping(&search, &g.current, &final_fit.damping)?;
