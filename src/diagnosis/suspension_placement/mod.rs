@@ -136,6 +136,10 @@ pub struct Placement {
     pub dof: DeckDof,
     pub k: f64,
     pub score: f64,
+    /// Suspension modes the springs make that no test mode was paired with
+    /// (the modal placement; 0 for the low band's): the test shows fewer
+    /// than the placement needs, unresolved or below its band.
+    pub unmatched: usize,
 }
 
 /// The rigid-body modes' row u_n at each node (node, u_n).
@@ -386,7 +390,9 @@ fn score(
         s += (1.0 - mac) + (d / LN_FREQUENCY_SCALE).powi(2);
     }
     s += placement_cost(nodes, pick, hard);
-    Some(Placement::of(nodes, pick, dof, ln_k.exp(), s))
+    let mut p = Placement::of(nodes, pick, dof, ln_k.exp(), s);
+    p.unmatched = held.len() - pairs.len();
+    Some(p)
 }
 
 impl Placement {
@@ -400,6 +406,7 @@ impl Placement {
             dof,
             k,
             score,
+            unmatched: 0,
         }
     }
 }
