@@ -300,22 +300,34 @@ fn the_same_diagnosis_on_one_thread_as_on_two() {
 /// is missing; truth ζ = 0.01 (fixtures/garteur/truth.json).
 #[test]
 fn garteur_only_damping_missing() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
-    let text = std::fs::read_to_string(dir.join("garteur_suspended.deck")).unwrap();
-    let deck = frfup::parsers::deck::parse(&text).unwrap();
-    let test = frfup::testdata::load(&dir.join("campaign.uff")).unwrap();
+    let d = garteur("garteur_suspended.deck");
     // The defaults: the first step is `frfup update`'s own pipeline (the
     // demo's options), which fixes the stiffness errors the paper's method
     // left for the search to mistake for suspension springs.
-    let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
     assert!(structural(&d).is_empty(), "{:?}", d.findings);
+    damping_of_the_truth(&d);
+}
+
+/// The diagnosis of `fixtures/garteur/DECK` against the campaign, with the
+/// defaults.
+fn garteur(deck: &str) -> Diagnosis {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
+    let text = std::fs::read_to_string(dir.join(deck)).unwrap();
+    let deck = frfup::parsers::deck::parse(&text).unwrap();
+    let test = frfup::testdata::load(&dir.join("campaign.uff")).unwrap();
+    diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap()
+}
+
+/// The GARTEUR campaign's modal damping found (truth ζ = 0.01) and the
+/// diagnosis at the noise level.
+fn damping_of_the_truth(d: &Diagnosis) {
     let f = d
         .findings
         .iter()
         .find(|f| f.physics.name() == "damping")
         .expect("a damping finding");
     assert_fitted(f, "zeta", 0.01);
-    at_noise_level(&d);
+    at_noise_level(d);
 }
 
 /// The same campaign on the free-free deck (`garteur.deck`: no bungees, no
@@ -329,20 +341,10 @@ fn garteur_only_damping_missing() {
 /// 204, k = 4,003 N/m (σ 0.37 %), ζ = 0.009999, 0.86× the noise.
 #[test]
 fn garteur_free_free_cords_and_damping() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/garteur");
-    let text = std::fs::read_to_string(dir.join("garteur.deck")).unwrap();
-    let deck = frfup::parsers::deck::parse(&text).unwrap();
-    let test = frfup::testdata::load(&dir.join("campaign.uff")).unwrap();
-    let d = diagnose(&deck, &test, &DiagnoseOptions::default()).unwrap();
+    let d = garteur("garteur.deck");
     let cords = the_one(&d, "suspension", &[10, 104, 204], &["z"]);
     assert_fitted(cords, "k", 4000.0);
-    let f = d
-        .findings
-        .iter()
-        .find(|f| f.physics.name() == "damping")
-        .expect("a damping finding");
-    assert_fitted(f, "zeta", 0.01);
-    at_noise_level(&d);
+    damping_of_the_truth(&d);
 }
 
 /// Every file below `dir`, relative, sorted.

@@ -38,8 +38,8 @@ use frfup_parsers::deck::DeckDof;
 use rayon::prelude::*;
 
 use super::{
-    best_sets, by_score, node_rows, placement_cost, rigid_columns, spring_gram, tied_with_the_best,
-    Placement, SUSPENSION_BAND,
+    best_sets, by_score, gram, node_rows, placement_cost, rigid_columns, spring_gram,
+    tied_with_the_best, Placement, SUSPENSION_BAND,
 };
 use crate::diagnosis::data::TestData;
 use crate::diagnosis::fit::{self, Mask};
@@ -442,16 +442,7 @@ impl<'a> LowBand<'a> {
         let w_lo = self.data.omegas[self.lines[0]] / 4.0;
         let w_hi = self.data.omegas[*self.lines.last()?] * 2.0;
         let (lo, hi) = ((w_lo * w_lo / mu_top).ln(), (w_hi * w_hi / mu_low).ln());
-        let m = self.omega2.len();
-        let mut g = DMatrix::<f64>::zeros(m, m);
-        for &i in pick {
-            let phi = &nodes[i].1;
-            for a in 0..m {
-                for b in 0..m {
-                    g[(a, b)] += phi[a] * phi[b];
-                }
-            }
-        }
+        let g = gram(nodes, pick, self.omega2.len());
         let (ln_k, misfit) = minimise(|x| self.cost(&self.on_springs(&g, x.exp())), lo, hi);
         let score = misfit * (1.0 + placement_cost(nodes, pick, hard));
         Some(Placement::of(nodes, pick, dof, ln_k.exp(), score))

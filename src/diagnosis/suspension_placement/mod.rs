@@ -418,16 +418,22 @@ fn spring_gram(
     pick: &[usize],
     nr: usize,
 ) -> SymmetricEigen<f64, nalgebra::Dyn> {
-    let mut g = DMatrix::<f64>::zeros(nr, nr);
+    SymmetricEigen::new(gram(nodes, pick, nr))
+}
+
+/// G_S = Σ_{n∈S} u_nᵀ u_n over the first `n` entries of the rows u_n of
+/// the springs at `pick` (indices into `nodes`).
+fn gram(nodes: &[(u32, Vec<f64>)], pick: &[usize], n: usize) -> DMatrix<f64> {
+    let mut g = DMatrix::<f64>::zeros(n, n);
     for &i in pick {
         let u = &nodes[i].1;
-        for a in 0..nr {
-            for b in 0..nr {
+        for a in 0..n {
+            for b in 0..n {
                 g[(a, b)] += u[a] * u[b];
             }
         }
     }
-    SymmetricEigen::new(g)
+    g
 }
 
 /// The placement penalty of springs at `pick`: [`PER_SPRING`] for each

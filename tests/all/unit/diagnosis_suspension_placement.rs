@@ -78,6 +78,17 @@ fn springs_at_the_ends_are_placed_from_simulated_frfs() {
     assert!((placed[0].k / K - 1.0).abs() < 2e-3, "k = {}", placed[0].k);
 }
 
+/// The low band's placements (3 and ties) on the deck `placed_on` for the
+/// accelerances of `sprung` at z of nodes 2, 4, 6, 8, 9 (force at 9 z),
+/// lines 1.5 Hz apart from 1.5 Hz, modal damping 1 %.
+fn low_band_of(sprung: &Deck, placed_on: &Deck) -> Vec<Placement> {
+    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
+    let data = accelerances(sprung, lines, 9, &[2, 4, 6, 8, 9], 0.01, c64::new(1.0, 0.0));
+    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
+    let mask = frfup::updating::fullband::fit::Mask::all(&data);
+    low_band_placements(&context(placed_on), &data, damping, &mask, 3)
+}
+
 /// Lines 1.5 Hz apart from 1.5 Hz (the suspension modes, bounce 2.0 Hz and
 /// pitch 3.5 Hz, fall between the first three lines: no pole fit resolves
 /// them): the low band alone places the springs at the two ends. k comes
@@ -86,19 +97,7 @@ fn springs_at_the_ends_are_placed_from_simulated_frfs() {
 /// order (3.5 Hz / 400 Hz)² ≈ 1e-4 in ω²: within 1e-3.
 #[test]
 fn springs_at_the_ends_are_placed_from_the_low_band_alone() {
-    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
-    let data = accelerances(
-        &deck(true),
-        lines,
-        9,
-        &[2, 4, 6, 8, 9],
-        0.01,
-        c64::new(1.0, 0.0),
-    );
-    let free = deck(false);
-    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
-    let mask = frfup::updating::fullband::fit::Mask::all(&data);
-    let placed = low_band_placements(&context(&free), &data, damping, &mask, 3);
+    let placed = low_band_of(&deck(true), &deck(false));
     assert_eq!(
         (placed[0].nodes.clone(), placed[0].dof),
         (vec![1, 9], DeckDof::Z),
@@ -128,20 +127,7 @@ fn stiff_springs_coupled_to_the_first_elastic_mode_are_placed_with_their_k() {
     const K2: f64 = 8e5;
     let mut text = beam_text();
     text += &format!("spring 1 1 z k={K2}\nspring 2 9 z k={K2}\n");
-    let sprung = parse(&text).unwrap();
-    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
-    let data = accelerances(
-        &sprung,
-        lines,
-        9,
-        &[2, 4, 6, 8, 9],
-        0.01,
-        c64::new(1.0, 0.0),
-    );
-    let free = deck(false);
-    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
-    let mask = frfup::updating::fullband::fit::Mask::all(&data);
-    let placed = low_band_placements(&context(&free), &data, damping, &mask, 3);
+    let placed = low_band_of(&parse(&text).unwrap(), &deck(false));
     assert_eq!(
         (placed[0].nodes.clone(), placed[0].dof),
         (vec![1, 9], DeckDof::Z),
@@ -153,19 +139,8 @@ fn stiff_springs_coupled_to_the_first_elastic_mode_are_placed_with_their_k() {
 /// A deck with springs already (no rigid-body mode) gets no placement.
 #[test]
 fn no_low_band_placement_on_a_deck_with_springs() {
-    let lines: Vec<f64> = (1..=130).map(|i| i as f64 * 1.5).collect();
     let sprung = deck(true);
-    let data = accelerances(
-        &sprung,
-        lines,
-        9,
-        &[2, 4, 6, 8, 9],
-        0.01,
-        c64::new(1.0, 0.0),
-    );
-    let damping = frfup::model::Damping::Modal { zeta: 0.01 };
-    let mask = frfup::updating::fullband::fit::Mask::all(&data);
-    assert!(low_band_placements(&context(&sprung), &data, damping, &mask, 3).is_empty());
+    assert!(low_band_of(&sprung, &sprung).is_empty());
 }
 
 /// A steel box frame (space analysis, seed-1 case 109 of the diagnosis
