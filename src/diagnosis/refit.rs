@@ -305,8 +305,7 @@ fn frf_stage(
     let data = engine.data;
     let (mut lo, mut hi) = problem.bounds();
     let n = lo.len();
-    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
-    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
+    let (w_lo, w_hi) = data.band();
     let (dlo, dhi) = damp.form.bounds(w_lo, w_hi);
     lo.extend(dlo);
     hi.extend(dhi);

@@ -50,7 +50,10 @@ impl<'a> Search<'a> {
             test,
             j0: engine.noise_level(),
             zeta0: engine.data.half_power_zeta(),
-            deck_form: DampingForm::of(deck_damping),
+            deck_form: {
+                let (w_lo, w_hi) = engine.data.band();
+                DampingForm::of(deck_damping, w_lo, w_hi)
+            },
             start_damping: fit::start_damping(deck_damping, engine.data),
         }
     }

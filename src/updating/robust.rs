@@ -7,8 +7,8 @@
 //! 2. The full-band estimate ([`estimate`]): every line and channel, the
 //!    damping fitted along, bounds and priors, from the better of the deck
 //!    (p̄ = 0) and stage 1's best iteration, and from the other too when the
-//!    better ends above the noise level; when all of them end far above it
-//!    (4×), from up to `spread_starts` points spread over ±0.3 too. Its
+//!    better ends above the noise level; when all of them end clearly above
+//!    it (1.1×), from up to `spread_starts` points spread over ±0.3 too. Its
 //!    parameters are the result, with their uncertainty; the update has
 //!    converged when this stage has.
 //! 3. The final parameters are scored like an iteration (SFDAC at the
@@ -39,9 +39,15 @@ const MISFIT_WARNING: f64 = 4.0;
 /// result with two parameters 0.07 from the truth, 100 standard deviations,
 /// where the deck's start reaches the truth at 0.955×.
 const RESTART_MISFIT: f64 = 1.0;
-/// Misfit at which the spread starts stop (1.5 leaves room for the noise
-/// estimate's scatter; each costs a whole estimate).
-const SPREAD_STOP: f64 = 1.5;
+/// Misfit above which the fit is not at the noise level, whatever the
+/// scatter of the noise level's estimate: at the truth, the 600 cases of
+/// the update benchmark's seeds 1, 2 and 11 end at 1.02× it at most. Above
+/// it the estimate is run from `spread_starts` further starts (each a whole
+/// estimate), which stop once one fits below it. Seed 11's case 058 (a
+/// T-frame's two crossbar arms' Iy changed +0.35 and −0.25, sensors in x
+/// alone) ended at 1.31× with both 0.4 from the truth and standard
+/// deviations of 0.0005: a local minimum that looks certain.
+const SPREAD_MISFIT: f64 = 1.1;
 
 /// Run the robust pipeline.
 pub fn update_robust(
@@ -141,7 +147,7 @@ fn best_estimate(
             .enumerate()
             .map(|(i, s)| (SPREAD_START + i, s))
             .collect();
-        try_starts(&mut best, &mut solutions, spread, SPREAD_STOP, &run);
+        try_starts(&mut best, &mut solutions, spread, SPREAD_MISFIT, &run);
     }
     best.model_solutions = solutions;
     Ok(best)
@@ -182,8 +188,6 @@ fn try_starts(
     }
 }
 
-/// Misfit above which `spread_starts` further starts are tried.
-const SPREAD_MISFIT: f64 = MISFIT_WARNING;
 /// Half-range of the spread starts in p̄ (relative change).
 const SPREAD: f64 = 0.3;
 

@@ -294,9 +294,50 @@ fn a_local_minimum_is_left_from_a_spread_start() {
     every_parameter_within(&case, &r, 0.01);
 }
 
+/// A local minimum close above the noise level: the update benchmark's
+/// case 058 of seed 11 (free-free T-frame, roving hammer over 15 points,
+/// sensors in x alone, the crossbar arms' Iy changed +0.35 and −0.25).
+/// From the deck and the first stage the estimate ended at 1.31× the noise
+/// level with the two arms' Iy at −0.17 and +0.11, standard deviations
+/// 0.0005 and 0.0003, exit 0: a false certainty. Spread starts are taken
+/// whenever the fit ends above 1.1× (no fit at the truth of the 600 cases
+/// of seeds 1, 2 and 11 does); one reaches 0.90× with every parameter
+/// within 0.0003 of the truth (measured). Tolerance 0.003: ten of the
+/// largest standard deviation (0.0003).
+#[test]
+fn a_fit_just_above_the_noise_level_is_left_from_a_spread_start() {
+    use frfup::updating::fullband::estimate::SPREAD_START;
+    let (case, r) = benchmark_case_of_seed_updated(11, 58);
+    let est = r.estimate.as_ref().expect("full-band estimate");
+    assert!(est.start >= SPREAD_START, "start {}", est.start);
+    assert!(est.misfit < 1.0, "misfit {}", est.misfit);
+    every_parameter_within(&case, &r, 0.003);
+}
+
+/// A deck whose Rayleigh damping is proportional to the stiffness alone
+/// (α = 0, β = 4.651e-5): the update benchmark's case 082 of seed 12, a
+/// free-free space frame on springs, suspension modes at 1.6–10 Hz (ζ from
+/// 2e-4) and elastic ones at 53–98 Hz (ζ 0.8–1.4 %). The estimate took the
+/// deck for one without damping and fitted a constant modal ζ (0.0083):
+/// 48.7× the noise level, both parameters 0.01–0.02 from the truth. With
+/// the deck's form kept: 0.78×, both within 0.0004 (measured). Tolerance
+/// 0.003: four standard deviations of the larger (0.0008).
+#[test]
+fn a_stiffness_proportional_deck_damping_keeps_its_form_in_the_estimate() {
+    let (case, r) = benchmark_case_of_seed_updated(12, 82);
+    let est = r.estimate.as_ref().expect("full-band estimate");
+    assert!(
+        matches!(est.damping, frfup::model::Damping::Rayleigh { .. }),
+        "{:?}",
+        est.damping
+    );
+    assert!(est.misfit < 1.0, "misfit {}", est.misfit);
+    every_parameter_within(&case, &r, 0.003);
+}
+
 /// The further starts run on the pool's threads, taken in their order as if
 /// one after the other: case 040 above (ordinary starts, then spread starts
-/// until one reaches 1.5× the noise) gives the same estimate, bit for bit,
+/// until one reaches 1.1× the noise) gives the same estimate, bit for bit,
 /// the same start and the same count of model solutions (the starts after
 /// the one that stopped the spread are not counted) on one thread and on
 /// three (batches of three spread starts: the stop falls inside a batch).

@@ -154,8 +154,7 @@ pub fn fit_damping(
     mask: &Mask,
     max_iter: usize,
 ) -> (DampingState, Vec<f64>) {
-    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
-    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
+    let (w_lo, w_hi) = data.band();
     let (lo, hi) = state.form.bounds(w_lo, w_hi);
     let form = state.form;
     let mut problem = DampingProblem {

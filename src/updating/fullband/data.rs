@@ -197,6 +197,13 @@ impl TestData {
         nodes
     }
 
+    /// The band's first and last line ω (rad/s); (1, 1) without lines.
+    pub fn band(&self) -> (f64, f64) {
+        let w_lo = self.omegas.first().copied().unwrap_or(1.0);
+        let w_hi = self.omegas.last().copied().unwrap_or(1.0);
+        (w_lo, w_hi)
+    }
+
     /// Median half-power damping ratio of the measured resonances (default 1 %).
     pub fn half_power_zeta(&self) -> f64 {
         let mut z: Vec<f64> = self

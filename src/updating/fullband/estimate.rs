@@ -554,8 +554,7 @@ fn bounds(
     form: fit::DampingForm,
     data: &TestData,
 ) -> (Vec<f64>, Vec<f64>) {
-    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
-    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
+    let (w_lo, w_hi) = data.band();
     let (dlo, dhi) = form.bounds(w_lo, w_hi);
     let mut lo: Vec<f64> = priors.iter().map(|p| p.min).collect();
     let mut hi: Vec<f64> = priors.iter().map(|p| p.max).collect();

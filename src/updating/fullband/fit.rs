@@ -437,15 +437,26 @@ impl DampingForm {
             ),
         }
     }
-    /// The form and log parameters of a deck's damping, if any.
-    pub fn of(d: Damping) -> Option<(DampingForm, Vec<f64>)> {
+    /// The form and log parameters of a deck's damping, if any, for a test
+    /// band [ω_lo, ω_hi] (rad/s). A Rayleigh coefficient of 0 (damping
+    /// proportional to the mass or to the stiffness alone) starts at its
+    /// lower bound of [`Self::bounds`], where it adds ζ ≤ 5e-7·ω_hi/ω_lo:
+    /// a log parameter cannot hold 0, and taking such a deck for one
+    /// without damping replaced its form by modal damping (a constant ζ
+    /// cannot follow βω/2 from suspension modes at 1 Hz to elastic ones at
+    /// 100 Hz: seed 12's update case 082 ended at 49× the noise level).
+    pub fn of(d: Damping, w_lo: f64, w_hi: f64) -> Option<(DampingForm, Vec<f64>)> {
         match d {
             Damping::Modal { zeta } if zeta > 0.0 => Some((DampingForm::Modal, vec![zeta.ln()])),
             Damping::Hysteretic { eta } if eta > 0.0 => {
                 Some((DampingForm::Hysteretic, vec![eta.ln()]))
             }
-            Damping::Rayleigh { alpha, beta } if alpha > 0.0 && beta > 0.0 => {
-                Some((DampingForm::Rayleigh, vec![alpha.ln(), beta.ln()]))
+            Damping::Rayleigh { alpha, beta }
+                if alpha >= 0.0 && beta >= 0.0 && alpha + beta > 0.0 =>
+            {
+                let (lo, _) = DampingForm::Rayleigh.bounds(w_lo, w_hi);
+                let x = vec![alpha.ln().max(lo[0]), beta.ln().max(lo[1])];
+                Some((DampingForm::Rayleigh, x))
             }
             _ => None,
         }
@@ -502,8 +513,7 @@ pub fn fit_deck_parameters(
     let np = names.len();
     let priors = ParameterPrior::of_deck(deck);
     let prior_scale = ParameterPrior::row_scale(noise_level(data, mask));
-    let w_lo = data.omegas.first().copied().unwrap_or(1.0);
-    let w_hi = data.omegas.last().copied().unwrap_or(1.0);
+    let (w_lo, w_hi) = data.band();
     let (dlo, dhi) = damp.form.bounds(w_lo, w_hi);
     let mut x0: Vec<f64> = names
         .iter()
@@ -651,11 +661,11 @@ pub fn frequency_alignment(mm: &ModalModel, data: &TestData) -> Vec<(f64, Option
 /// the deck has none, modal damping at the median half-power ζ of the
 /// measured resonances.
 pub fn start_damping(deck_damping: Damping, data: &TestData) -> DampingState {
-    DampingForm::of(deck_damping)
+    let (w_lo, w_hi) = data.band();
+    DampingForm::of(deck_damping, w_lo, w_hi)
         .map(|(form, x)| DampingState { form, x })
         .unwrap_or_else(|| {
-            let w = &data.omegas;
-            let wc = (w[0] * w[w.len() - 1]).sqrt();
+            let wc = (w_lo * w_hi).sqrt();
             DampingState {
                 form: DampingForm::Modal,
                 x: DampingForm::Modal.start(data.half_power_zeta(), wc),

@@ -124,3 +124,38 @@ fn has_log_ratio_is_whether_the_log_ratio_is_defined() {
     assert_eq!(defined, expected);
     assert_eq!(defined, [true, true, true, true, false, false, false, true]);
 }
+
+/// A deck's Rayleigh damping with one coefficient 0 (proportional to the
+/// stiffness or the mass alone) keeps its form: the zero coefficient starts
+/// on its lower bound for the band, where its ζ is below 5e-7·ω_hi/ω_lo,
+/// and the other keeps its value exactly. Before, such a deck was taken for
+/// one without damping and fitted with a constant modal ζ.
+#[test]
+fn a_rayleigh_deck_with_one_zero_coefficient_keeps_its_form() {
+    use frfup::model::Damping;
+    let (w_lo, w_hi) = (2.0, 700.0);
+    let (lo, _) = DampingForm::Rayleigh.bounds(w_lo, w_hi);
+    let stiffness_only = Damping::Rayleigh {
+        alpha: 0.0,
+        beta: 4.651e-5,
+    };
+    let (form, x) = DampingForm::of(stiffness_only, w_lo, w_hi).expect("a form");
+    assert_eq!(form, DampingForm::Rayleigh);
+    assert_eq!(x, vec![lo[0], 4.651e-5f64.ln()]);
+    let zeta_alpha = x[0].exp() / (2.0 * w_lo);
+    assert!(
+        zeta_alpha <= 5e-7 * w_hi / w_lo * (1.0 + 1e-12),
+        "ζ_α = {zeta_alpha}"
+    );
+    let mass_only = Damping::Rayleigh {
+        alpha: 3.633,
+        beta: 0.0,
+    };
+    let (_, x) = DampingForm::of(mass_only, w_lo, w_hi).expect("a form");
+    assert_eq!(x, vec![3.633f64.ln(), lo[1]]);
+    let none = Damping::Rayleigh {
+        alpha: 0.0,
+        beta: 0.0,
+    };
+    assert_eq!(DampingForm::of(none, w_lo, w_hi), None);
+}
