@@ -469,23 +469,10 @@ fn the_parameters_are_updated_again_after_each_finding() {
 /// the noise, the mass 17.55 kg).
 #[test]
 fn channels_judged_wrong_only_for_lack_of_the_missing_physics_are_restored() {
-    let (_, d, json, s) = diagnose_case(&full_case(253));
-    assert_eq!(
-        s.reported,
-        vec![("added-mass".to_string(), vec![1])],
-        "{:?}",
-        s.reported
-    );
-    assert_eq!(s.effects[0].value_ok, Some(true), "{:?}", s.effects[0]);
-    let restored = restored_channels(&json);
-    assert_eq!(restored.len(), 2, "{restored:?}");
-    assert!(
-        restored[0].starts_with("channel 5+z is 0.2248"),
-        "{restored:?}"
-    );
-    assert!(
-        restored[1].starts_with("channel 6+z has the opposite sign"),
-        "{restored:?}"
+    let d = one_effect_with_restored_channels(
+        &full_case(253),
+        ("added-mass", 1),
+        &["channel 5+z is 0.2248", "channel 6+z has the opposite sign"],
     );
     // The restored channels fit: before, 834× the noise.
     assert!(d.diagnosed.frf_error < 40.0, "{}", d.diagnosed.frf_error);
@@ -507,21 +494,36 @@ fn channels_judged_wrong_only_for_lack_of_the_missing_physics_are_restored() {
 #[test]
 fn a_flexible_support_that_made_a_channel_look_scaled_is_found() {
     let c = generate_diagnosis(case_seed(2, 51), &GenOptions::diagnosis()).expect("generate");
-    let (_, d, json, s) = diagnose_case(&c);
+    let d = one_effect_with_restored_channels(
+        &c,
+        ("support-flexibility", 3),
+        &["channel 93+x is 3.281"],
+    );
+    assert!(d.diagnosed.frf_error < 1.25, "{}", d.diagnosed.frf_error);
+}
+
+/// `c` diagnosed: exactly the one effect `(physics, node)` reported, its
+/// value within tolerance, and the data errors undone again (restored)
+/// those whose descriptions start with `restored`, in order.
+fn one_effect_with_restored_channels(
+    c: &Case,
+    (physics, node): (&str, u32),
+    restored: &[&str],
+) -> Diagnosis {
+    let (_, d, json, s) = diagnose_case(c);
     assert_eq!(
         s.reported,
-        vec![("support-flexibility".to_string(), vec![3])],
+        vec![(physics.to_string(), vec![node])],
         "{:?}",
         s.reported
     );
     assert_eq!(s.effects[0].value_ok, Some(true), "{:?}", s.effects[0]);
-    let restored = restored_channels(&json);
-    assert_eq!(restored.len(), 1, "{restored:?}");
-    assert!(
-        restored[0].starts_with("channel 93+x is 3.281"),
-        "{restored:?}"
-    );
-    assert!(d.diagnosed.frf_error < 1.25, "{}", d.diagnosed.frf_error);
+    let found = restored_channels(&json);
+    assert_eq!(found.len(), restored.len(), "{found:?}");
+    for (f, r) in found.iter().zip(restored) {
+        assert!(f.starts_with(r), "{found:?}");
+    }
+    d
 }
 
 /// The data errors a diagnosis found and then undid again (diagnosis.json
