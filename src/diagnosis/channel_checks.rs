@@ -298,8 +298,8 @@ fn live_channels(measured: &TestData, errors: &[DataError]) -> Vec<bool> {
 
 /// The whole search again on the test with the reversed and scaled
 /// channels among `errors` as measured (the other errors still undone),
-/// for a diagnosis that the corrected test leaves above the noise level:
-/// the corrections are then not confirmed by an explanation, and the
+/// for a diagnosis that the corrected test leaves far above the noise
+/// level: the corrections are then not confirmed by an explanation, and the
 /// physics that made a channel look wrong may be what a correction took
 /// the evidence of. A flexible support beside a sensor multiplies that
 /// sensor's response by a nearly constant factor against a deck that holds
