@@ -85,7 +85,10 @@ pub struct FitQuality {
     /// SFDAC (Eq. 45) of the signed FRF vectors at the measured resonances.
     pub sfdac_mean: f64,
     pub sfdac_min: f64,
-    /// Mean |f_model − f_test|/f_test (%) over the resonances, model peaks paired by nearness.
+    /// Mean |f_model − f_test|/f_test (%) over the test resonances paired
+    /// one to one with the model's FRF peaks
+    /// ([`updating::correlation::pair_by_frequency`]); a resonance the
+    /// model has no peak for within a factor 1.5 is left out.
     pub freq_error_mean_pct: f64,
     /// Mean squared weighted log-FRF error over all lines and channels above
     /// the noise floor, divided by its noise-only value (1 = noise level).
@@ -524,16 +527,12 @@ fn quality(engine: &Engine, deck: &Deck, damp: &DampingState) -> Result<FitQuali
             min_prominence: 2.0,
         },
     );
-    let mut fe_err = Vec::new();
-    for &(f, _) in &resonances {
-        if let Some(mp) = model_peaks.iter().min_by(|a, b| {
-            (a.frequency_hz - f)
-                .abs()
-                .total_cmp(&(b.frequency_hz - f).abs())
-        }) {
-            fe_err.push(100.0 * (mp.frequency_hz - f).abs() / f);
-        }
-    }
+    let test_hz: Vec<f64> = resonances.iter().map(|r| r.0).collect();
+    let model_hz: Vec<f64> = model_peaks.iter().map(|p| p.frequency_hz).collect();
+    let fe_err: Vec<f64> = updating::correlation::pair_by_frequency(&test_hz, &model_hz)
+        .into_iter()
+        .map(|(t, m)| 100.0 * (model_hz[m] - test_hz[t]).abs() / test_hz[t])
+        .collect();
     let mean = |v: &[f64]| {
         if v.is_empty() {
             f64::NAN

@@ -211,3 +211,39 @@ pub fn pair_modes(
     }
     out
 }
+
+/// Test resonances (Hz) paired one to one with model resonances (Hz) by
+/// frequency alone: the closest pair first (|ln(f_model/f_test)|), then
+/// the closest of the rest, each resonance in at most one pair, none
+/// farther apart than a factor [`FREQUENCY_PAIR_RATIO`]. Returns (test,
+/// model) index pairs in test order. Nearest-neighbour pairing lets two
+/// test modes share one model peak (three close modes the model makes
+/// one peak of) or a suspension mode take the first elastic mode's
+/// partner, and their distance then counts as a frequency error.
+pub fn pair_by_frequency(test_hz: &[f64], model_hz: &[f64]) -> Vec<(usize, usize)> {
+    let mut candidates: Vec<(f64, usize, usize)> = Vec::new();
+    for (t, &ft) in test_hz.iter().enumerate() {
+        for (m, &fm) in model_hz.iter().enumerate() {
+            let d = (fm / ft).ln().abs();
+            if d.is_finite() && d < FREQUENCY_PAIR_RATIO.ln() {
+                candidates.push((d, t, m));
+            }
+        }
+    }
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let (mut t_used, mut m_used) = (vec![false; test_hz.len()], vec![false; model_hz.len()]);
+    let mut pairs = Vec::new();
+    for (_, t, m) in candidates {
+        if !t_used[t] && !m_used[m] {
+            (t_used[t], m_used[m]) = (true, true);
+            pairs.push((t, m));
+        }
+    }
+    pairs.sort_unstable();
+    pairs
+}
+
+/// Resonances farther apart than this factor are not paired by
+/// [`pair_by_frequency`]: an initial model 40 % off in a stiffness is
+/// within it (frequencies scale with its square root).
+pub const FREQUENCY_PAIR_RATIO: f64 = 1.5;

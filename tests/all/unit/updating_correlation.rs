@@ -45,3 +45,22 @@ fn pairing_ignores_modes_outside_the_frequency_window() {
     let p = pair_modes(&test, &[37.0], &fe[..1], &[346.0], 0.6);
     assert!(p[0].is_none());
 }
+
+/// One to one, closest first: three close test modes (36.8, 37.4,
+/// 38.7 Hz) against a model that makes one peak of them (37.5 Hz) and
+/// has its next at 60 Hz pair only the nearest, 37.4 Hz (nearest-peak
+/// pairing gave all three 37.5 Hz); a suspension mode at 2.5 Hz does not
+/// take the first elastic mode's partner (6.2 Hz: a factor 2.5, beyond
+/// 1.5) though the model has no peak of its own for it; the closest pair
+/// is taken first even when a resonance listed earlier would prefer the
+/// same model peak.
+#[test]
+fn frequency_pairs_are_one_to_one_closest_first_within_a_factor() {
+    let test = [2.5, 6.1, 36.8, 37.4, 38.7];
+    let model = [6.2, 37.5, 60.0];
+    assert_eq!(pair_by_frequency(&test, &model), vec![(1, 0), (3, 1)]);
+    // Both test modes are nearest 10.3 Hz: the closer one (10.4) gets it.
+    assert_eq!(pair_by_frequency(&[10.0, 10.4], &[10.3]), vec![(1, 0)]);
+    assert_eq!(pair_by_frequency(&[10.0], &[15.1]), vec![]);
+    assert_eq!(pair_by_frequency(&[10.0], &[14.9]), vec![(0, 0)]);
+}
