@@ -334,7 +334,7 @@ pub fn diagnose_with_progress(
 /// warning; closer to the noise level the corrections stand (seed 1's
 /// cases 202 and 278, at 2.4× and 6.1× with every effect right, kept
 /// their findings either way, each search taking as long again).
-const UNCONFIRMED: f64 = 4.0;
+const UNCONFIRMED: f64 = updating::robust::MISFIT_WARNING;
 
 /// The test the diagnosis was prepared from, to be corrected again.
 struct Retest<'a> {

@@ -30,7 +30,7 @@ use crate::testdata::MeasuredFrfs;
 
 /// Misfit (mean squared residual over its noise-level value) above which the
 /// update warns that its parameters do not explain the test.
-const MISFIT_WARNING: f64 = 4.0;
+pub const MISFIT_WARNING: f64 = 4.0;
 /// Misfit above which the estimate is run again from the other starts: the
 /// noise level itself. The noise level's estimate runs high (at the truth
 /// the fits of the update benchmark sit at 0.94× it; the median of its 200
