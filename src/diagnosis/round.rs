@@ -392,9 +392,17 @@ fn placed_suspension(engine: &Engine, cur: &Current, chosen: &mut Vec<Hypothesis
     labels
 }
 
+/// Damping iterations of each trial stiffness in the pairs' coarse fit:
+/// none, the current model's damping held. The pairs are only ranked
+/// here (the best two are fitted in full, their damping along); with
+/// three iterations the screen was 43 % of a free-free diagnosis (seed-2
+/// case 087, perf), the damping's Jacobians 70 % of it.
+const PAIR_DAMPING_ITERATIONS: usize = 0;
+
 /// The two pairs of same-stiffness springs in direction `dof` among the
-/// nodes of `pool` that fit best (coarse grid, 3 damping iterations); pairs
-/// already accepted or chosen are left out.
+/// nodes of `pool` that fit best (coarse grid, the current damping held:
+/// [`PAIR_DAMPING_ITERATIONS`]); pairs already accepted or chosen are left
+/// out.
 fn spring_pairs(
     engine: &Engine,
     cur: &Current,
@@ -421,7 +429,7 @@ fn spring_pairs(
                 hypothesis: Some(h),
                 search: LogSearch::over_bounds(5, 3),
                 with_std: false,
-                damping_iterations: 3,
+                damping_iterations: PAIR_DAMPING_ITERATIONS,
                 ..FitRequest::damping(cur.deck, cur.damp, &engine.all)
             })?;
             Some(f.cost)
