@@ -503,9 +503,16 @@ impl<'a> LowBand<'a> {
                 }
                 let ratio = h * inv_test;
                 let d = ratio - c64::new(1.0, 0.0);
-                // |z| as √|z|², not hypot: no overflow at these magnitudes
-                // and a quarter of the band's time in glibc's hypot.
-                sum += w2 * d.norm_sqr() / ratio.norm_sqr().sqrt().max(1e-300);
+                // |z| as √|z|² (glibc's hypot was a quarter of the band's
+                // time); hypot only where |z|² overflows, so that the
+                // point costs +∞ as before, never ∞/∞ = NaN.
+                let n2 = ratio.norm_sqr();
+                let size = if n2.is_finite() {
+                    n2.sqrt()
+                } else {
+                    ratio.norm()
+                };
+                sum += w2 * d.norm_sqr() / size.max(1e-300);
                 n += 1;
             }
         }
