@@ -66,10 +66,8 @@ struct LowBand<'a> {
     damping: Damping,
     /// Low lines (indices into `data.lines_hz`) and their ω (rad/s).
     lines: Vec<usize>,
-    /// Active channels (indices into `data.channels`).
-    channels: Vec<usize>,
-    /// H^rest[k][j]: channel `channels[k]` at line `lines[j]`, the modes of
-    /// the basis left out.
+    /// H^rest[k][j]: the k-th active channel (of the mask) at line
+    /// `lines[j]`, the modes of the basis left out.
     rest: Vec<Vec<c64>>,
     /// w² and 1/H_test at the same points (w the fit's weight; w = 0: the
     /// point is left out).
@@ -320,18 +318,9 @@ impl<'a> LowBand<'a> {
         let channels: Vec<usize> = (0..data.channels.len())
             .filter(|&c| mask.channels[c])
             .collect();
-        let at_points = |f: &dyn Fn(usize, usize) -> c64| -> Vec<Vec<c64>> {
-            channels
-                .iter()
-                .map(|&c| lines.iter().map(|&l| f(c, l)).collect())
-                .collect()
-        };
-        let rest = at_points(&|c, l| pred[c][l]);
-        let inv_test = at_points(&|c, l| data.values[c][l].inv());
-        let weight2 = channels
-            .iter()
-            .map(|&c| lines.iter().map(|&l| data.weight[c][l].powi(2)).collect())
-            .collect();
+        let rest = at_points(&channels, &lines, |c, l| pred[c][l]);
+        let inv_test = at_points(&channels, &lines, |c, l| data.values[c][l].inv());
+        let weight2 = at_points(&channels, &lines, |c, l| data.weight[c][l].powi(2));
         let shapes = &sol.modes.shapes;
         let row = |eq: usize| -> Vec<f64> { basis.iter().map(|&r| shapes[(eq, r)]).collect() };
         let omega2 = basis
@@ -358,7 +347,6 @@ impl<'a> LowBand<'a> {
             data,
             damping,
             lines,
-            channels,
             rest,
             weight2,
             inv_test,
@@ -382,7 +370,6 @@ impl<'a> LowBand<'a> {
             data: self.data,
             damping: self.damping,
             lines: self.lines.iter().step_by(step).copied().collect(),
-            channels: self.channels.clone(),
             rest: keep(&self.rest, step),
             weight2: keep(&self.weight2, step),
             inv_test: keep(&self.inv_test, step),
@@ -522,6 +509,14 @@ impl<'a> LowBand<'a> {
             sum / n as f64
         }
     }
+}
+
+/// `f(c, l)` at every channel of `channels` (rows) and line of `lines`.
+fn at_points<T>(channels: &[usize], lines: &[usize], f: impl Fn(usize, usize) -> T) -> Vec<Vec<T>> {
+    channels
+        .iter()
+        .map(|&c| lines.iter().map(|&l| f(c, l)).collect())
+        .collect()
 }
 
 /// The minimum of `f` over [lo, hi]: a grid of [`K_GRID`] points, then
