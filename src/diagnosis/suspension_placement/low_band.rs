@@ -488,18 +488,7 @@ impl<'a> LowBand<'a> {
                 for (ai, g) in a.iter().zip(&inv[j * nm..(j + 1) * nm]) {
                     h += *g * *ai;
                 }
-                let ratio = h * inv_test;
-                let d = ratio - c64::new(1.0, 0.0);
-                // |z| as √|z|² (glibc's hypot was a quarter of the band's
-                // time); hypot only where |z|² overflows, so that the
-                // point costs +∞ as before, never ∞/∞ = NaN.
-                let n2 = ratio.norm_sqr();
-                let size = if n2.is_finite() {
-                    n2.sqrt()
-                } else {
-                    ratio.norm()
-                };
-                sum += w2 * d.norm_sqr() / size.max(1e-300);
+                sum += point_misfit(h * inv_test, w2);
                 n += 1;
             }
         }
@@ -509,6 +498,17 @@ impl<'a> LowBand<'a> {
             sum / n as f64
         }
     }
+}
+
+/// The misfit w²|z − 1|²/|z| of one point, z = H_model/H_test and `w2`
+/// = w² (see the module's doc): 0 at z = 1, the same for z and 1/z. |z| is
+/// √|z|² (glibc's hypot was a quarter of the band's time), hypot only where
+/// |z|² overflows, so that such a point costs +∞, never ∞/∞ = NaN (x86's
+/// NaN is negative, and `total_cmp` sorts it below every cost).
+pub fn point_misfit(z: c64, w2: f64) -> f64 {
+    let n2 = z.norm_sqr();
+    let size = if n2.is_finite() { n2.sqrt() } else { z.norm() };
+    w2 * (z - c64::new(1.0, 0.0)).norm_sqr() / size.max(1e-300)
 }
 
 /// `f(c, l)` at every channel of `channels` (rows) and line of `lines`.

@@ -255,3 +255,18 @@ fn three_springs_of_a_box_frame_are_placed_from_its_three_suspension_modes() {
     // Alike sets in the order of their node numbers.
     assert_eq!(placed[0].nodes, vec![1, 2, 3], "{placed:?}");
 }
+
+/// The low band's misfit of one point, w²|z − 1|²/|z|, against its closed
+/// form: 0 at z = 1; at z = 2, w²·1/2; the same for z and 1/z (a model
+/// peak where the test has none costs what a missing one does); +∞, never
+/// NaN, where |z|² overflows (a NaN would sort below every cost).
+#[test]
+fn a_low_band_point_misfit_is_symmetric_and_never_nan() {
+    assert_eq!(point_misfit(c64::new(1.0, 0.0), 3.0), 0.0);
+    assert!((point_misfit(c64::new(2.0, 0.0), 4.0) - 2.0).abs() < 1e-15);
+    let z = c64::new(0.3, -1.7);
+    let (a, b) = (point_misfit(z, 1.0), point_misfit(z.inv(), 1.0));
+    assert!((a / b - 1.0).abs() < 1e-14, "{a} {b}");
+    let huge = point_misfit(c64::new(1e200, 1e200), 1.0);
+    assert_eq!(huge, f64::INFINITY);
+}
