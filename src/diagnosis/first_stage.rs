@@ -80,18 +80,21 @@ fn ends_in_estimate(res: &updating::UpdateResult) -> bool {
 
 /// The deck's parameters updated on `ext` (the deck with extensions) and,
 /// when the update did not end in its full-band estimate, polished from its
-/// values with the damping `damp` (`None`: neither gave values).
+/// values with the damping `damp` (`None`: neither gave values); with the
+/// estimate's standard deviations (relative, as p̄; none after a polish).
 pub(super) fn parameters_on(
     search: &Search,
     ext: &Deck,
     damp: &DampingState,
-) -> Option<ParameterValues> {
+) -> Option<(ParameterValues, ParameterValues)> {
     let res = updating::update(ext, search.test, &update_options(search)).ok();
     if let Some(res) = res.as_ref().filter(|r| ends_in_estimate(r)) {
-        return Some(res.parameter_values());
+        let sd = res.estimate.iter().flat_map(|e| &e.parameters);
+        let sd = sd.map(|p| (p.name.clone(), p.sd)).collect();
+        return Some((res.parameter_values(), sd));
     }
     let start = res.map(|r| r.parameter_values()).unwrap_or_default();
-    polished(search, ext, &start, damp).map(|(v, _)| v)
+    polished(search, ext, &start, damp).map(|(v, _)| (v, ParameterValues::new()))
 }
 
 /// The deck's parameters fitted on all lines and channels from `start`

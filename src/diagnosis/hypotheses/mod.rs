@@ -10,7 +10,9 @@ pub mod prior;
 pub mod shear;
 pub mod springs;
 
-use frfup_parsers::deck::{Deck, DeckDof, FixDofs, Mass, Node, Pos, Spring, Theory};
+use frfup_parsers::deck::{
+    Deck, DeckDof, FixDofs, IdRange, Mass, Node, Param, Pos, Quantity, Spring, Theory,
+};
 
 /// The physics classes, named as in `diagnosis.json`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -165,6 +167,57 @@ impl Hypothesis {
         }
         d
     }
+}
+
+impl Hypothesis {
+    /// [`Hypothesis::apply`] with the extension's value a parameter of the
+    /// deck named `name` (`param NAME m|k IDS` on the masses or springs it
+    /// adds; of a joint, its soft spring only), so that an update fits it
+    /// along with the deck's own parameters: its value is then
+    /// (1 + p̄)·`value`. `None` when the hypothesis has no value.
+    pub fn apply_as_parameter(&self, deck: &Deck, value: Option<f64>, name: &str) -> Option<Deck> {
+        value?;
+        self.param.as_ref()?;
+        let mut d = self.apply(deck, value);
+        let (quantity, ids): (Quantity, Vec<u32>) = match &self.extension {
+            Extension::Masses { .. } => (Quantity::M, added_ids(&deck.masses, &d.masses, |m| m.id)),
+            Extension::GroundSprings { .. } => {
+                (Quantity::K, added_ids(&deck.springs, &d.springs, |s| s.id))
+            }
+            Extension::Joint { .. } => {
+                let ids = added_ids(&deck.springs, &d.springs, |s| s.id);
+                (Quantity::K, ids.into_iter().take(1).collect())
+            }
+            Extension::Timoshenko { .. } => return None,
+        };
+        if ids.is_empty() {
+            return None;
+        }
+        d.params.push(Param {
+            name: name.to_string(),
+            quantity,
+            ids: ids
+                .iter()
+                .map(|&id| IdRange {
+                    first: id,
+                    last: id,
+                    pos: Pos::default(),
+                })
+                .collect(),
+            min: None,
+            max: None,
+            sd: None,
+            prior_centre: 0.0,
+            pos: Pos::default(),
+        });
+        Some(d)
+    }
+}
+
+/// The IDs of `after`'s elements that `before` does not have.
+fn added_ids<T>(before: &[T], after: &[T], id: impl Fn(&T) -> u32) -> Vec<u32> {
+    let old: std::collections::BTreeSet<u32> = before.iter().map(&id).collect();
+    after.iter().map(id).filter(|i| !old.contains(i)).collect()
 }
 
 fn push_spring(d: &mut Deck, node: u32, dof: DeckDof, k: f64, to: Option<u32>) {

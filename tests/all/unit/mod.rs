@@ -7,6 +7,7 @@ mod benchmark_generate_effects;
 mod benchmark_score_diagnosis;
 mod diagnosis_discriminate;
 mod diagnosis_folds;
+mod diagnosis_hypotheses;
 mod diagnosis_localise;
 mod diagnosis_model_cache;
 mod diagnosis_prior;
