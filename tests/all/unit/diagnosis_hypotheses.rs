@@ -3,9 +3,10 @@
 //! updates an extension's value along with the deck's own parameters, so the
 //! deck with the parameter at p̄ must be the model of the value (1 + p̄)·v.
 
-use frfup::diagnosis::hypotheses::{joint, masses, shear, springs, Context, Hypothesis};
+use super::diagnosis_prior::l_frame_context;
+use frfup::diagnosis::hypotheses::{joint, masses, shear, springs, Hypothesis};
 use frfup::model::{self, ParameterValues};
-use frfup_parsers::deck::{Deck, DeckDof};
+use frfup_parsers::deck::DeckDof;
 
 const L_FRAME: &str = "analysis plane\n\
     material m E=2.1e11 nu=0.3 rho=7850\n\
@@ -13,16 +14,6 @@ const L_FRAME: &str = "analysis plane\n\
     node 1 0 0 0\nnode 2 0.5 0 0\nnode 3 1 0 0\nnode 4 1 0 0.5\nnode 5 1 0 1\n\
     beam 1 1 2 m s\nbeam 2 2 3 m s\nbeam 3 3 4 m s\nbeam 4 4 5 m s\n\
     mass 1 5 m=0.2\nparam E_all E 1-4\n";
-
-fn context(d: &Deck) -> Context<'_> {
-    Context {
-        deck: d,
-        sensor_nodes: vec![2, 4],
-        total_mass: 1.0,
-        free_free: true,
-        first_elastic_omega: 100.0,
-    }
-}
 
 /// Largest entry of |A − B| over the largest entry of |B|.
 fn relative_difference(a: &model::SparseMatrix, b: &model::SparseMatrix) -> f64 {
@@ -67,7 +58,7 @@ fn scaled_parameter_is_scaled_value(h: &Hypothesis, v: f64) {
 #[test]
 fn an_added_mass_as_a_parameter_is_the_mass_scaled() {
     let d = frfup_parsers::deck::parse(L_FRAME).expect("test deck parses");
-    let ctx = context(&d);
+    let ctx = l_frame_context(&d);
     let added = masses::added_mass(&ctx);
     let at_3 = added
         .iter()
@@ -81,7 +72,7 @@ fn an_added_mass_as_a_parameter_is_the_mass_scaled() {
 #[test]
 fn suspension_springs_as_a_parameter_are_the_springs_scaled() {
     let d = frfup_parsers::deck::parse(L_FRAME).expect("test deck parses");
-    let hung = springs::suspension(&context(&d), vec![1, 5], DeckDof::Z);
+    let hung = springs::suspension(&l_frame_context(&d), vec![1, 5], DeckDof::Z);
     scaled_parameter_is_scaled_value(&hung, 2.0e3);
 }
 
@@ -90,7 +81,7 @@ fn suspension_springs_as_a_parameter_are_the_springs_scaled() {
 #[test]
 fn a_joint_as_a_parameter_scales_its_soft_spring_only() {
     let d = frfup_parsers::deck::parse(L_FRAME).expect("test deck parses");
-    let joints = joint::joint_flexibility(&context(&d));
+    let joints = joint::joint_flexibility(&l_frame_context(&d));
     let at_3 = joints
         .iter()
         .find(|h| h.nodes == [3])
@@ -110,7 +101,7 @@ fn a_joint_as_a_parameter_scales_its_soft_spring_only() {
 #[test]
 fn shear_deformation_and_a_missing_value_are_no_parameter() {
     let d = frfup_parsers::deck::parse(L_FRAME).expect("test deck parses");
-    let ctx = context(&d);
+    let ctx = l_frame_context(&d);
     let timoshenko = &shear::shear_deformation(&ctx)[0];
     assert!(timoshenko.apply_as_parameter(&d, Some(1.0), "x").is_none());
     let hung = springs::suspension(&ctx, vec![1, 5], DeckDof::Z);

@@ -16,8 +16,9 @@ const L_FRAME: &str = "analysis plane\n\
     node 1 0 0 0\nnode 2 0.5 0 0\nnode 3 1 0 0\nnode 4 1 0 0.5\nnode 5 1 0 1\n\
     beam 1 1 2 m s\nbeam 2 2 3 m s\nbeam 3 3 4 m s\nbeam 4 4 5 m s\n";
 
-/// The L-frame free-free, with sensors at nodes 2 and 4.
-fn l_frame_context(d: &Deck) -> Context<'_> {
+/// The L-frame free-free, with sensors at nodes 2 and 4 (also the
+/// context of `diagnosis_hypotheses`).
+pub(super) fn l_frame_context(d: &Deck) -> Context<'_> {
     Context {
         deck: d,
         sensor_nodes: vec![2, 4],
