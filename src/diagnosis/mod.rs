@@ -345,10 +345,11 @@ struct Retest<'a> {
 }
 
 /// [`finish`] on the test with the restored channels as measured again
-/// (the other errors found still undone): the final damping fitted
-/// again from the search's, the deck as given and updated scored on that
-/// test, the restored channels listed as rejected data errors. `spent`:
-/// model solutions of the search's engine.
+/// (the other errors found still undone): the deck's parameters and the
+/// extensions' values updated again and the final damping fitted again on
+/// that test ([`Search::update_on_this_test`]), the deck as given and
+/// updated scored on it, the restored channels listed as rejected data
+/// errors. `spent`: model solutions of the search's engine.
 fn finish_restored(
     t: &Retest,
     spent: usize,
@@ -367,7 +368,8 @@ fn finish_restored(
     let (test, data) = src.corrected(&kept)?;
     let engine = Engine::new(&data);
     let search = Search::new(&engine, src.deck, &test, src.opts);
-    let final_fit = final_damping::fit_final_damping(&search, &g.current, &final_fit.damping)?;
+    search.update_on_this_test(&mut g, &final_fit.damping);
+    let final_fit = final_damping::fit_final_damping(&search, &g.current, &g.damp)?;
     let findings = data_error_findings(src.deck, src.measured, &search, &kept);
     let before = Before {
         initial: quality(&engine, src.deck, &search.start_damping)?,
