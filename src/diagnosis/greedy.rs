@@ -21,6 +21,7 @@ use super::discriminate;
 use super::fit::DampingState;
 use super::hypotheses::{prior, Hypothesis, Physics};
 use super::joint_screen;
+use super::places;
 use super::refit;
 use super::round::{search_round, Round};
 use super::search::Search;
@@ -106,6 +107,9 @@ pub(super) fn search(
     }
     if !stop.load(Ordering::Relaxed) {
         search.update_at_end(&mut g, pending);
+        if places::refine(search, &mut g) {
+            search.update_at_end(&mut g, None);
+        }
     }
     Ok(Some(g))
 }
@@ -487,12 +491,18 @@ impl Greedy {
     /// The joint fit of [`Self::refitted_on`] (also with no value to fit:
     /// then the damping alone).
     fn joint_refit(&self, engine: &Engine) -> Option<refit::JointFit> {
-        let hyps: Vec<&Hypothesis> = self.accepted.iter().map(|a| &a.0).collect();
-        let logs: Vec<f64> = self
-            .accepted
-            .iter()
-            .filter_map(|a| a.1.map(f64::ln))
-            .collect();
+        self.joint_refit_of(engine, &self.accepted)
+    }
+
+    /// [`Self::joint_refit`] of `accepted` in place of the accepted
+    /// extensions (on the same base deck, from their values and damping).
+    pub(super) fn joint_refit_of(
+        &self,
+        engine: &Engine,
+        accepted: &[(Hypothesis, Option<f64>)],
+    ) -> Option<refit::JointFit> {
+        let hyps: Vec<&Hypothesis> = accepted.iter().map(|a| &a.0).collect();
+        let logs: Vec<f64> = accepted.iter().filter_map(|a| a.1.map(f64::ln)).collect();
         let settings = refit::JointSettings {
             frequency_stage: false,
             iterations: 8,
@@ -500,6 +510,44 @@ impl Greedy {
         let problem = refit::Joint::new(&self.base, hyps);
         let starts = std::slice::from_ref(&logs);
         refit::fit_joint(engine, &problem, starts, &self.damp, &engine.all, settings)
+    }
+
+    /// Extension `i` replaced by `moved` (the same class elsewhere) with the
+    /// values and damping of `jf`, their joint fit
+    /// ([`Self::joint_refit_of`]); its finding renamed, its alternatives
+    /// and the measurement to tell them apart dropped (they were the
+    /// first place's), and the move listed among the hypotheses tried
+    /// (`j0`: the noise level, the unit of the costs it quotes).
+    pub(super) fn take_move(
+        &mut self,
+        i: usize,
+        moved: Hypothesis,
+        (jf, v): (&refit::JointFit, f64),
+        j0: f64,
+    ) {
+        let (old, value) = self.accepted[i].clone();
+        self.rejected.push(Rejected {
+            label: old.label.clone(),
+            round: self.findings.len(),
+            value,
+            validation_error: f64::NAN,
+            reason: format!(
+                "moved to a neighbouring node after the search ({}): FRF cost {:.2} → {:.2} × the noise level, the deck's parameters held",
+                moved.label,
+                self.cost / j0,
+                jf.cost / j0
+            ),
+        });
+        if let Some(f) = self.findings.get_mut(i) {
+            f.nodes = moved.nodes.clone();
+            f.label = moved.label.clone();
+            f.alternatives.clear();
+            f.tell_apart = None;
+            f.validation_error_after = v;
+        }
+        self.accepted[i].0 = moved;
+        self.take_refit(jf);
+        self.v = v;
     }
 
     /// Take the values and the damping of `jf`, a fit of

@@ -29,6 +29,7 @@ pub use final_damping::{identified_disagreement, DAMPING_AGREEMENT};
 mod first_stage;
 mod greedy;
 mod joint_screen;
+mod places;
 mod round;
 mod search;
 

@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use frfup_parsers::deck::Deck;
 
+use super::data::TestData;
 use super::fit::{self, DampingState};
 use super::hypotheses::{self, Context, Hypothesis, Physics};
 use super::joint_screen::{self, frequency_seeded_with};
@@ -151,16 +152,9 @@ impl<'a> Current<'a> {
             .sqrt();
         let fe = model::build(deck, &ParameterValues::new()).map_err(DiagnoseError::Model)?;
         let large = fe.dofs.len() > 200;
-        let mut sensor_nodes: Vec<u32> = data
-            .sensor_nodes()
-            .into_iter()
-            .map(|n| fe.sensors.get(&n).copied().unwrap_or(n))
-            .collect();
-        sensor_nodes.sort_unstable();
-        sensor_nodes.dedup();
         let ctx = Context {
             deck,
-            sensor_nodes,
+            sensor_nodes: sensor_nodes(data, &fe),
             total_mass: hypotheses::total_mass(deck),
             free_free: !fe.has_fixed_dofs,
             first_elastic_omega: first_elastic,
@@ -175,6 +169,19 @@ impl<'a> Current<'a> {
             free_parameters: false,
         })
     }
+}
+
+/// The FE nodes that carry a sensor of `data` in `fe` (ascending, unique;
+/// a `sensor` statement of the deck maps a channel's node to its FE node).
+pub(super) fn sensor_nodes(data: &TestData, fe: &model::FeModel) -> Vec<u32> {
+    let mut nodes: Vec<u32> = data
+        .sensor_nodes()
+        .into_iter()
+        .map(|n| fe.sensors.get(&n).copied().unwrap_or(n))
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
 }
 
 /// Every candidate of the dictionary not yet accepted, each probed once.

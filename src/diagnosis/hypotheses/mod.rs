@@ -170,6 +170,59 @@ impl Hypothesis {
 }
 
 impl Hypothesis {
+    /// This added mass or suspension spring set with its node `from` moved
+    /// to `to` (same parameter, same direction); `None` for the other
+    /// classes (a sensor mass sits on the sensors, a support's or a
+    /// joint's spring at its support or junction) or when `from` is not
+    /// one of its nodes or `to` already is.
+    pub fn moved(&self, from: u32, to: u32) -> Option<Hypothesis> {
+        if !self.nodes.contains(&from) || self.nodes.contains(&to) {
+            return None;
+        }
+        let swap = |nodes: &[u32]| -> Vec<u32> {
+            nodes
+                .iter()
+                .map(|&n| if n == from { to } else { n })
+                .collect()
+        };
+        let nodes = swap(&self.nodes);
+        let (extension, label) = match (&self.physics, &self.extension) {
+            (Physics::AddedMass, Extension::Masses { .. }) => (
+                Extension::Masses {
+                    nodes: nodes.clone(),
+                },
+                format!("added-mass at node {to}"),
+            ),
+            (
+                Physics::Suspension,
+                Extension::GroundSprings {
+                    dof, unfix: false, ..
+                },
+            ) => {
+                let list: Vec<String> = nodes.iter().map(|n| n.to_string()).collect();
+                (
+                    Extension::GroundSprings {
+                        nodes: nodes.clone(),
+                        dof: *dof,
+                        unfix: false,
+                    },
+                    format!(
+                        "suspension springs ({}) at node(s) {}",
+                        dof.name(),
+                        list.join(", ")
+                    ),
+                )
+            }
+            _ => return None,
+        };
+        Some(Hypothesis {
+            nodes,
+            extension,
+            label,
+            ..self.clone()
+        })
+    }
+
     /// [`Hypothesis::apply`] with the extension's value a parameter of the
     /// deck named `name` (`param NAME m|k IDS` on the masses or springs it
     /// adds; of a joint, its soft spring only), so that an update fits it

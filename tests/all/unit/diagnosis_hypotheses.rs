@@ -107,3 +107,26 @@ fn shear_deformation_and_a_missing_value_are_no_parameter() {
     let hung = springs::suspension(&ctx, vec![1, 5], DeckDof::Z);
     assert!(hung.apply_as_parameter(&d, None, "x").is_none());
 }
+
+/// `Hypothesis::moved` (the places refined after a search): an added mass
+/// or one node of a suspension set moved is the hypothesis the dictionary
+/// builds at the new place, label and parameter included; a sensor mass, a
+/// node it does not have or one it already has give nothing.
+#[test]
+fn a_moved_mass_or_spring_is_the_dictionary_hypothesis_at_the_new_node() {
+    let d = frfup_parsers::deck::parse(L_FRAME).expect("test deck parses");
+    let ctx = l_frame_context(&d);
+    let added = masses::added_mass(&ctx);
+    let at = |n: u32| added.iter().find(|h| h.nodes == [n]).expect("a mass");
+    assert_eq!(at(3).moved(3, 5).as_ref(), Some(at(5)));
+    assert!(at(3).moved(1, 5).is_none(), "node 1 is not the mass's");
+    let hung = springs::suspension(&ctx, vec![1, 5], DeckDof::Z);
+    let expected = springs::suspension(&ctx, vec![1, 4], DeckDof::Z);
+    assert_eq!(hung.moved(5, 4), Some(expected));
+    assert!(hung.moved(5, 1).is_none(), "node 1 is already hung");
+    let sensor = &masses::sensor_mass(&ctx)[0];
+    assert!(
+        sensor.moved(2, 3).is_none(),
+        "a sensor mass stays on its sensors"
+    );
+}
