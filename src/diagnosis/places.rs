@@ -12,8 +12,8 @@
 //! the other extensions, their values and the damping refitted jointly
 //! ([`Greedy::joint_refit_of`], the deck's parameters held); the move that
 //! lowers the cost most is taken when it lowers it by more than the margin
-//! ([`select::margin`]) and predicts the held-out data no worse, and the
-//! moves go on from there, at most [`MAX_MOVES`], until none pays or the
+//! ([`select::margin`]) (its validation error is computed for the report
+//! only), and the moves go on from there, at most [`MAX_MOVES`], until none pays or the
 //! fit is at the noise level. A move adds no parameter: the cost compares
 //! places on equal terms.
 
