@@ -125,6 +125,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         dense_limit: if dense { usize::MAX } else { 0 },
         krylov_dofs_per_mode: if dense { 0 } else { 1 },
         expect_no_rigid_body_modes: fe.has_fixed_dofs,
+        cover_omega2: None,
     };
     // Best of `--repeat` solves (the first pays for page faults and thread start-up).
     let mut eigen_s = f64::INFINITY;

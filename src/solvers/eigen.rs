@@ -81,6 +81,11 @@ pub struct EigenOptions {
     pub krylov_dofs_per_mode: usize,
     /// True when the model has fixed DOFs: zero-energy modes are then reported as mechanisms.
     pub expect_no_rigid_body_modes: bool,
+    /// With `Some(ω²_top)` (rad²/s²), fewer than `count` modes when fewer
+    /// reach past it: the modes with ω² ≤ ω²_top and the one above them.
+    /// The dense path counts them on its tridiagonal form (a Sturm count);
+    /// the Krylov path returns `count`.
+    pub cover_omega2: Option<f64>,
 }
 
 impl Default for EigenOptions {
@@ -90,6 +95,7 @@ impl Default for EigenOptions {
             dense_limit: 2500,
             krylov_dofs_per_mode: KRYLOV_DOFS_PER_MODE,
             expect_no_rigid_body_modes: false,
+            cover_omega2: None,
         }
     }
 }
@@ -302,7 +308,7 @@ pub fn lowest_modes_with(
     }
     let dense_path = |report: &mut EigenReport| -> Result<Mat<f64>, EigenError> {
         let shift = tuning.shift.unwrap_or(-1e-4 * scale.median_ratio);
-        let (phi, used) = dense::shift_invert(k, m, count, shift)?;
+        let (phi, used) = dense::shift_invert(k, m, count, opts.cover_omega2, shift)?;
         report.path = EigenPath::Dense;
         report.initial_shift = shift;
         report.shift = used;

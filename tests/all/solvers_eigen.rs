@@ -17,6 +17,7 @@ fn opts(count: usize, dense: bool, fixed: bool) -> EigenOptions {
         dense_limit: if dense { usize::MAX } else { 0 },
         krylov_dofs_per_mode: 0,
         expect_no_rigid_body_modes: fixed,
+        cover_omega2: None,
     }
 }
 

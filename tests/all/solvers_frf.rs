@@ -37,6 +37,7 @@ fn all_modes(
             dense_limit: n,
             krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: false,
+            cover_omega2: None,
         },
     )
     .unwrap()
@@ -140,6 +141,7 @@ fn residual_improves_truncated_superposition() {
             dense_limit: 0,
             krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: true,
+            cover_omega2: None,
         },
     )
     .unwrap();

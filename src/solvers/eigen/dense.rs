@@ -66,7 +66,9 @@ const SEQUENTIAL_BELOW: usize = 600;
 
 /// Tries σ, 100σ, 10⁴σ, … until K − σM is numerically positive definite.
 /// Returns the `count` lowest (unnormalised) mode shapes, lowest first, and
-/// the σ used.
+/// the σ used; with `cover_omega2` = Some(ω²_top), only those with
+/// ω² ≤ ω²_top and the one above them when they are fewer than `count`
+/// (counted on T as the μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ)).
 ///
 /// When a reverse Cuthill–McKee renumbering of the unknowns shrinks the
 /// envelope of K and M below [`RENUMBER_BELOW`] of the deck's own, the pencil
@@ -75,15 +77,17 @@ pub fn shift_invert(
     k: &SparseMatrix,
     m: &SparseMatrix,
     count: usize,
+    cover_omega2: Option<f64>,
     shift: f64,
 ) -> Result<(Mat<f64>, f64), EigenError> {
     let Some(order) = narrower_order(k, m) else {
-        return shift_invert_in_order(k, m, count, shift);
+        return shift_invert_in_order(k, m, count, cover_omega2, shift);
     };
     let (y, sigma) = shift_invert_in_order(
         &renumbered(k, &order)?,
         &renumbered(m, &order)?,
         count,
+        cover_omega2,
         shift,
     )?;
     // Row p of y is unknown order[p].
@@ -140,6 +144,7 @@ fn shift_invert_in_order(
     k: &SparseMatrix,
     m: &SparseMatrix,
     count: usize,
+    cover_omega2: Option<f64>,
     shift: f64,
 ) -> Result<(Mat<f64>, f64), EigenError> {
     let trace = std::env::var_os("FRFUP_EIGEN_TRACE").is_some();
@@ -174,7 +179,11 @@ fn shift_invert_in_order(
     lap("cholesky");
     let c = reduce(l.as_ref(), m, &envelope, par);
     lap("reduction");
-    let (_, mut y, _) = largest_eigenpairs(c, count, par, SUBSET_BELOW)?;
+    // ω² ≤ ω²_top ⟺ μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ) (σ < 0 < ω²_top).
+    let floor = cover_omega2
+        .filter(|w2| *w2 > sigma && w2.is_finite())
+        .map(|w2| 1.0 / (w2 - sigma));
+    let (_, mut y, _) = largest_eigenpairs_down_to(c, count, floor, par, SUBSET_BELOW)?;
     lap("evd");
     back_substitute(l.as_ref(), &envelope, y.as_mut(), par);
     lap("back-substitution");
@@ -387,8 +396,21 @@ pub const SUBSET_BELOW: usize = 4;
 /// whether the subset path produced them: bisection and inverse iteration on
 /// the tridiagonal form when count · `subset_below` ≤ n and n ≥ 32 (0: never).
 pub fn largest_eigenpairs(
+    c: Mat<f64>,
+    count: usize,
+    par: Par,
+    subset_below: usize,
+) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
+    largest_eigenpairs_down_to(c, count, None, par, subset_below)
+}
+
+/// [`largest_eigenpairs`], but with `floor` = Some(μ_min) at most the
+/// eigenvalues ≥ μ_min and the one below them (a Sturm count on the
+/// tridiagonal form, before any eigenvector is computed).
+pub fn largest_eigenpairs_down_to(
     mut c: Mat<f64>,
     count: usize,
+    floor: Option<f64>,
     par: Par,
     subset_below: usize,
 ) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
@@ -414,6 +436,14 @@ pub fn largest_eigenpairs(
     );
     let diag = Col::<f64>::from_fn(n, |i| c[(i, i)]);
     let subdiag = Col::<f64>::from_fn(n.saturating_sub(1), |i| c[(i + 1, i)]);
+    let count = match floor {
+        Some(mu) if n > 0 => {
+            let d: Vec<f64> = diag.iter().copied().collect();
+            let e: Vec<f64> = subdiag.iter().copied().collect();
+            count.min(tridiagonal::count_above(&d, &e, mu) + 1).min(n)
+        }
+        _ => count,
+    };
     // A few of many: bisection and inverse iteration on T (O(n·count²) at
     // most) instead of all n eigenvectors of T; a full decomposition if its
     // checks fail.

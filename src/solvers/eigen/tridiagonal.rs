@@ -42,6 +42,29 @@ pub fn largest_pairs(d: &[f64], e: &[f64], count: usize) -> Option<(Vec<f64>, Ve
     checked(d, e, &values, &vectors, bounds.norm).then_some((values, vectors))
 }
 
+/// The number of eigenvalues of T (diagonal `d`, subdiagonal `e`) greater
+/// than `x`: n minus the negative pivots of the LDLᵀ factorisation of
+/// T − xI (Sylvester's law of inertia), the Sturm count of [`bisect`].
+pub fn count_above(d: &[f64], e: &[f64], x: f64) -> usize {
+    let n = d.len();
+    if n == 0 || e.len() + 1 != n {
+        return 0;
+    }
+    let norm = d.iter().chain(e).fold(0.0f64, |a, v| a.max(v.abs()));
+    let pivmin = f64::MIN_POSITIVE.max(f64::EPSILON * f64::EPSILON * norm);
+    let mut below = 0;
+    let mut q = 1.0;
+    for i in 0..n {
+        let e2 = if i > 0 { e[i - 1] * e[i - 1] } else { 0.0 };
+        q = d[i] - x - if i > 0 { e2 / q } else { 0.0 };
+        if q.abs() < pivmin {
+            q = -pivmin;
+        }
+        below += (q < 0.0) as usize;
+    }
+    n - below
+}
+
 /// The Gershgorin interval [lo, hi] of T, a norm of T, and the pivot that
 /// replaces a zero one (as LAPACK's pivmin).
 struct Bounds {
@@ -82,7 +105,11 @@ impl Bounds {
 /// first. Eigenvalue with ascending index j = n − 1 − r: the least x with
 /// more than j eigenvalues below it. All `count` bisections advance
 /// together, one Sturm sequence per lane, so the divisions of different
-/// eigenvalues overlap instead of waiting on each other.
+/// eigenvalues overlap instead of waiting on each other. Every lane halves
+/// its interval each round, so two lanes' intervals are either the same or
+/// disjoint, and equal ones are adjacent: a run of lanes with the same
+/// interval (all of them in the first rounds, the lanes of a cluster for
+/// longer) shares one Sturm count, with the same result as counting each.
 fn bisect(d: &[f64], e: &[f64], count: usize, bounds: &Bounds) -> Vec<f64> {
     let n = d.len();
     let Bounds {
@@ -95,36 +122,50 @@ fn bisect(d: &[f64], e: &[f64], count: usize, bounds: &Bounds) -> Vec<f64> {
     let tol = 4.0 * f64::EPSILON * norm;
     let mut a = vec![lo - tol; count];
     let mut b = vec![hi + tol; count];
+    // Per distinct interval: its midpoint, pivot and negative pivots.
     let mut mid = vec![0.0; count];
     let mut q = vec![0.0; count];
     let mut negatives = vec![0usize; count];
+    // The distinct interval each lane shares.
+    let mut shared = vec![0usize; count];
     let rounds = (((hi - lo + 2.0 * tol) / tol)
         .log2()
         .ceil()
         .clamp(0.0, 199.0)) as usize
         + 1;
     for _ in 0..rounds {
+        let mut distinct = 0;
         for r in 0..count {
-            mid[r] = 0.5 * (a[r] + b[r]);
+            if r == 0 || a[r] != a[r - 1] || b[r] != b[r - 1] {
+                mid[distinct] = 0.5 * (a[r] + b[r]);
+                distinct += 1;
+            }
+            shared[r] = distinct - 1;
         }
+        let (mid, q, negatives) = (
+            &mid[..distinct],
+            &mut q[..distinct],
+            &mut negatives[..distinct],
+        );
         negatives.fill(0);
         for i in 0..n {
             let (di, e2i) = (d[i], if i > 0 { e2[i - 1] } else { 0.0 });
-            for r in 0..count {
-                let prev = if i > 0 { q[r] } else { 1.0 };
-                let mut qi = di - mid[r] - e2i / prev;
+            for s in 0..distinct {
+                let prev = if i > 0 { q[s] } else { 1.0 };
+                let mut qi = di - mid[s] - e2i / prev;
                 if qi.abs() < pivmin {
                     qi = -pivmin;
                 }
-                negatives[r] += (qi < 0.0) as usize;
-                q[r] = qi;
+                negatives[s] += (qi < 0.0) as usize;
+                q[s] = qi;
             }
         }
         for r in 0..count {
-            if negatives[r] > n - 1 - r {
-                b[r] = mid[r];
+            let s = shared[r];
+            if negatives[s] > n - 1 - r {
+                b[r] = mid[s];
             } else {
-                a[r] = mid[r];
+                a[r] = mid[s];
             }
         }
     }

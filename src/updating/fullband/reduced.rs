@@ -1,6 +1,6 @@
 //! The model of the full-band estimate on a Ritz basis fixed at an anchor.
 //!
-//! T = [Φ | S] (n × m): the lowest modes Φ at the anchor p̄ₐ (up to 2.5·ω_max,
+//! T = [Φ | S] (n × m): the lowest modes Φ at the anchor p̄ₐ (up to 4·ω_max,
 //! as [`fit::modal_solution`]) and the static responses to a unit load at
 //! the excitation and at each channel, x = (K − σM)⁻¹ P e with P = I − MΦΦᵀ
 //! (σ < 0 tiny, as [`frf::static_residual_terms`]), with the excitation's

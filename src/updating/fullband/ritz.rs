@@ -3,13 +3,13 @@
 //! small eigen solution per column instead of a full one.
 //!
 //! T = [Φ | S] is the basis of [`super::reduced`] at a point x: the band's
-//! modes Φ (up to 2.5·ω_max) and the static responses at the excitation and
+//! modes Φ (up to 4·ω_max) and the static responses at the excitation and
 //! the channels, M-orthonormal. A model built at x + h·e_j with the same
 //! DOFs (any change of its properties, masses or springs: a deck parameter
 //! or an extension's) is projected, K_r = TᵀKT and M_r = TᵀMT (m × m), and
 //! solved. Its lowest nb = dim Φ eigenpairs are the band's modes (exact at
 //! x, Rayleigh–Ritz with an error second order in h at x + h·e_j); the
-//! upper m − nb, all above ω_{nb+1} ≥ 2.5·ω_max, are folded into the static
+//! upper m − nb, all above ω_{nb+1} ≥ 4·ω_max, are folded into the static
 //! terms the full model carries for the modes it leaves out:
 //! R0_c = Σ a_cr/ω_r², R1_c = Σ a_cr/ω_r⁴ (1/(ω_r² − ω²) to first order in
 //! ω²/ω_r²). The modal model then has the form of [`fit::modal_solution`]'s,

@@ -159,3 +159,40 @@ fn subset_of_eigenpairs_matches_full_decomposition() {
         assert!(worst <= 1e-9 * size, "mode {j}: {worst:e} of {size:e}");
     }
 }
+
+/// With a floor between the 5th and 6th largest μ, the pairs stop at the
+/// first one below it (six), and they are the full decomposition's first six.
+#[test]
+fn a_floor_keeps_the_eigenvalues_above_it_and_the_next() {
+    let (k, m) = irregular_pencil(160);
+    let envelope = Envelope::of(&k, &m);
+    let l = envelope_cholesky(&k, &m, -1e-3, &envelope, Par::Seq).unwrap();
+    let c = reduce(l.as_ref(), &m, &envelope, Par::Seq);
+    let (mu_all, all, _) = largest_eigenpairs(c.clone(), 20, Par::Seq, 0).unwrap();
+    let floor = 0.5 * (mu_all[4] + mu_all[5]);
+    let (mu, z, _) =
+        largest_eigenpairs_down_to(c.clone(), 20, Some(floor), Par::Seq, SUBSET_BELOW).unwrap();
+    assert_eq!(mu.len(), 6);
+    assert_eq!(z.ncols(), 6);
+    for j in 0..6 {
+        assert!((mu[j] - mu_all[j]).abs() <= 1e-13 * mu_all[0], "μ{j}");
+        let dot: f64 = z
+            .col(j)
+            .iter()
+            .zip(all.col(j).iter())
+            .map(|(a, b)| a * b)
+            .sum();
+        assert!(
+            (dot.abs() - 1.0).abs() < 1e-9,
+            "vector {j}: |cos| = {}",
+            dot.abs()
+        );
+    }
+    // A floor above every eigenvalue still gives the largest pair; no
+    // floor gives the count asked for.
+    let (mu, _, _) =
+        largest_eigenpairs_down_to(c.clone(), 20, Some(2.0 * mu_all[0]), Par::Seq, 4).unwrap();
+    assert_eq!(mu.len(), 1);
+    let (mu, _, _) = largest_eigenpairs_down_to(c, 20, None, Par::Seq, 4).unwrap();
+    assert_eq!(mu.len(), 20);
+}

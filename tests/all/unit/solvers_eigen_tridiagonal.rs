@@ -59,3 +59,26 @@ fn multiple_eigenvalues_give_orthonormal_vectors() {
         }
     }
 }
+
+/// The Sturm count of the 1-D Laplacian against its closed-form spectrum
+/// 2 − 2 cos(jπ/(n+1)): at a point between two eigenvalues it counts
+/// exactly those above, at every gap of the spectrum.
+#[test]
+fn count_above_matches_the_closed_form_spectrum() {
+    let n = 60;
+    let d = vec![2.0; n];
+    let e = vec![-1.0; n - 1];
+    let h = std::f64::consts::PI / (n + 1) as f64;
+    let eig = |j: usize| 2.0 - 2.0 * (j as f64 * h).cos();
+    for j in 1..n {
+        let between = 0.5 * (eig(j) + eig(j + 1));
+        assert_eq!(
+            count_above(&d, &e, between),
+            n - j,
+            "between λ{j} and λ{}",
+            j + 1
+        );
+    }
+    assert_eq!(count_above(&d, &e, -1.0), n);
+    assert_eq!(count_above(&d, &e, 5.0), 0);
+}
