@@ -710,3 +710,22 @@ fn a_mass_beside_the_one_sensor_is_fitted_at_its_node() {
         s.effects
     );
 }
+
+/// Case 267 of the seed-1 set: a clamped 3D beam of solid circular section
+/// (every bending mode a y/z pair of equal frequency) with sensor masses at
+/// six of its sensors, excited in z. A repeated mode's eigenvectors are any
+/// basis of its eigenspace, and the dead-channel check read each one's
+/// constant at the y sensors: with the pair mixed, five y channels holding
+/// zeros were "dead where the deck predicts a response". The constants of
+/// a repeated mode are now summed over its eigenspace (zero at y here, in
+/// any basis).
+#[test]
+fn a_repeated_mode_does_not_make_silent_channels_dead() {
+    let (s, _) = right_at_noise_level(267);
+    assert_eq!(
+        s.reported,
+        vec![("sensor-mass".to_string(), vec![2, 4, 6, 7, 9, 11])],
+        "{:?}",
+        s.reported
+    );
+}

@@ -203,3 +203,27 @@ fn predictor_with_the_band_modes_and_the_static_terms_equals_the_direct_solution
         }
     }
 }
+
+/// A repeated mode (a tube's bending pair, any basis of its eigenspace) is
+/// one mode once merged: its constants summed, so a pair that cancels at a
+/// channel in every basis gives zero there; distinct modes stay apart.
+#[test]
+fn repeated_modes_merge_into_their_eigenspace() {
+    use frfup::updating::fullband::fit::ModalModel;
+    let w2 = 4.0e4;
+    let mm = ModalModel {
+        omega2: vec![w2, w2 * (1.0 + 1e-12), 9.0e4],
+        coeff: vec![vec![0.3, -0.3, 0.5], vec![0.2, 0.1, -0.4]],
+        residual: vec![1e-6, 2e-6],
+        residual_mass: vec![0.0, 0.0],
+        frequencies_hz: vec![31.83, 31.83, 47.75],
+        dofs: 30,
+    };
+    let merged = mm.repeated_merged();
+    assert_eq!(merged.omega2.len(), 2);
+    assert!((merged.omega2[0] - w2).abs() <= 1e-9 * w2);
+    assert_eq!(merged.omega2[1], 9.0e4);
+    assert!(merged.coeff[0][0].abs() < 1e-15 && (merged.coeff[0][1] - 0.5).abs() < 1e-15);
+    assert!((merged.coeff[1][0] - 0.3).abs() < 1e-15 && (merged.coeff[1][1] + 0.4).abs() < 1e-15);
+    assert_eq!(merged.residual, mm.residual);
+}

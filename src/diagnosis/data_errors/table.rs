@@ -85,8 +85,11 @@ fn test_modes(data: &TestData, idx: &[usize]) -> Vec<ColumnMode> {
 
 impl ModalTable {
     /// Identify the test's modes on the `live` channels of `data` and take
-    /// the modes of `mm` that may pair with them.
+    /// the modes of `mm` that may pair with them, each repeated mode as one
+    /// ([`ModalModel::repeated_merged`]: its eigenspace's constants, the
+    /// same in any basis of it, as the test sees it).
     pub fn new(data: &TestData, live: &[bool], mm: &ModalModel) -> ModalTable {
+        let mm = &mm.repeated_merged();
         let idx: Vec<usize> = (0..data.channels.len()).filter(|&c| live[c]).collect();
         let modes = test_modes(data, &idx);
         let nc = data.channels.len();
