@@ -96,7 +96,7 @@ fn demo_runs_end_to_end_and_improves_the_correlation() {
         if p["identified"].as_bool().unwrap() {
             // Within 0.03, or within three of its reported standard
             // deviations where the data determine it less well (measured:
-            // finjoint_J 0.039 ± 0.028, the others within 0.03).
+            // finjoint_J 0.040 ± 0.028, the others within 0.03).
             let sd = p["sd"].as_f64().unwrap();
             assert!(
                 (got - want).abs() < 0.03f64.max(3.0 * sd),

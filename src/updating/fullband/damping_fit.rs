@@ -24,7 +24,6 @@ use faer::{c64, Mat};
 use super::data::TestData;
 use super::fit::{self, DampingForm, DampingState, Mask, ModalModel};
 use super::lm::{self, LeastSquares, LmSettings};
-use crate::model::Damping;
 
 /// ∂r/∂x of [`fit::residuals`] of [`fit::predict`]`(mm, form.damping(x))`
 /// on `mask`: one row per residual, one column per damping log parameter.
@@ -45,13 +44,6 @@ pub fn damping_jacobian(
         .collect();
     let sums = modal_sums(mm, form, x, data, &lines, &channels);
     let nl = lines.len();
-    let (f, df) = match damping {
-        Damping::Hysteretic { eta } => {
-            let f = c64::new(1.0, eta).inv();
-            (f, c64::new(0.0, -eta) * f * f)
-        }
-        _ => (c64::new(1.0, 0.0), c64::new(0.0, 0.0)),
-    };
     let rows: usize = channels
         .iter()
         .map(|&c| lines.iter().filter(|&&l| data.weight[c][l] != 0.0).count())
@@ -65,6 +57,7 @@ pub fn damping_jacobian(
                 continue;
             }
             let w = data.omegas[l];
+            let (f, df, with) = fit::static_factor(damping, w);
             let stat = mm.residual[c] + w * w * mm.residual_mass[c];
             let h = f * stat + c64::new(sums[(i, k)], sums[(nl + i, k)]);
             let hm = h * crate::testdata::i_omega_power(w, data.kind.order());
@@ -77,7 +70,7 @@ pub fn damping_jacobian(
             for j in 0..nd {
                 let block = 2 * (j + 1) * nl;
                 let mut dh = c64::new(sums[(block + i, k)], sums[(block + nl + i, k)]);
-                if j == 0 {
+                if j == with {
                     dh += df * stat;
                 }
                 let g = dh * hinv;

@@ -181,12 +181,13 @@ pub fn placement(fe: &FeModel, data: &TestData) -> Result<Placement, DiagnoseErr
 }
 
 /// The modal model keeps the modes up to this multiple of ω_max (and the
-/// one above): the static terms R0 + ω²R1 of each mode left out miss at most
-/// (ω/ω_r)⁴/(1 − (ω/ω_r)²) = 0.4 % of its term in the band, and its damping
-/// (ωβ of its term with Rayleigh damping). Measured against the direct
-/// solution (`tests/all/modal_predictor.rs`): 2.5·ω_max left 2.5e-5 of |H|
-/// (hysteretic) and 2.3e-4 (Rayleigh), and changed 14 of the diagnosis
-/// benchmark's 300 findings; 4·ω_max leaves 1e-6 and 5e-5.
+/// one above): the static terms R0 + ω²R1 ([`static_factor`] damps them)
+/// of each mode left out miss at most (ω/ω_r)⁴/(1 − (ω/ω_r)²) = 0.4 % of
+/// its term in the band. Measured against the direct solution
+/// (`tests/all/modal_predictor.rs`): 2.5·ω_max left 2.5e-5 of |H|
+/// (hysteretic) and 2.3e-4 (Rayleigh, static terms undamped), and changed
+/// 14 of the diagnosis benchmark's 300 findings; 4·ω_max leaves 1e-6 and
+/// 7e-7.
 pub const MODES_UP_TO: f64 = 4.0;
 
 /// The lowest modes of `fe` up to [`MODES_UP_TO`]·ω_max of `data` and the
@@ -289,10 +290,6 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
         }
     }
     let sums = coefficient_product(mm, &active, kernels);
-    let res_factor = match damping {
-        Damping::Hysteretic { eta } => c64::new(1.0, eta).inv(),
-        _ => c64::new(1.0, 0.0),
-    };
     let mut out: Vec<Vec<c64>> = vec![Vec::new(); data.channels.len()];
     for (k, &c) in active.iter().enumerate() {
         let mut used = 0;
@@ -302,7 +299,8 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
                     return c64::new(f64::NAN, f64::NAN);
                 }
                 let w = data.omegas[l];
-                let stat = res_factor * (mm.residual[c] + w * w * mm.residual_mass[c]);
+                let stat =
+                    static_factor(damping, w).0 * (mm.residual[c] + w * w * mm.residual_mass[c]);
                 let h = stat + c64::new(sums[(used, k)], sums[(nl + used, k)]);
                 used += 1;
                 h * crate::testdata::i_omega_power(w, data.kind.order())
@@ -310,6 +308,30 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
             .collect();
     }
     out
+}
+
+/// The damping of the modes the static terms R0 + ω²R1 stand for (all far
+/// above ω, rad/s), as a factor f on them, with ∂f/∂x_j of the damping log
+/// parameter x_j it depends on: hysteretic 1/(1 + iη) (j = 0, ∂ = −iη f²);
+/// Rayleigh's stiffness part 1/(1 + iωβ) (d_r ≈ ω_r²(1 + iωβ) for
+/// ω_r ≫ ω; its mass part αω/ω_r² is negligible there; j = 1,
+/// ∂ = −iωβ f²); modal damping 2ζωω_r/ω_r² → 0: none.
+pub fn static_factor(damping: Damping, w: f64) -> (c64, c64, usize) {
+    let damped = |loss: f64| {
+        let f = c64::new(1.0, loss).inv();
+        (f, c64::new(0.0, -loss) * f * f)
+    };
+    match damping {
+        Damping::Hysteretic { eta } => {
+            let (f, df) = damped(eta);
+            (f, df, 0)
+        }
+        Damping::Rayleigh { beta, .. } => {
+            let (f, df) = damped(w * beta);
+            (f, df, 1)
+        }
+        _ => (c64::new(1.0, 0.0), c64::new(0.0, 0.0), 0),
+    }
 }
 
 /// Σ_r a_cr g_r for kernels g given as rows (any number of lines and
