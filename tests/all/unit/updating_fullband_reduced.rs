@@ -142,9 +142,10 @@ fn largest_relative_difference(a: &[Vec<c64>], b: &[Vec<c64>]) -> f64 {
 
 /// A reduced model moved to a point 10–20 % from its anchor (one inverse
 /// iteration of the full pencil on the old basis's Ritz vectors there) gives
-/// the FRFs of a new anchor at that point within 1e-4 (a hundredth of the
-/// weights' 1 % model floor; measured 6.0e-5, at the band's top modes, which
-/// one inverse iteration converges least), and over 100 times closer than
+/// the FRFs of a new anchor at that point within 2.5e-4 (a fortieth of the
+/// weights' 1 % model floor; measured 6.0e-5 with at least 40 modes in the
+/// basis, 1.14e-4 since it holds those up to 4·ω_max, at the band's top
+/// modes, which one inverse iteration converges least), and over 100 times closer than
 /// the old basis without the move (1.6e-2): the test fails if the inverse
 /// iteration is left out or the basis lost.
 #[test]
@@ -166,7 +167,7 @@ fn a_moved_reduced_model_matches_a_new_anchor() {
     let exact = frfs(&fresh);
     let moved_error = largest_relative_difference(&frfs(&moved), &exact);
     let stale_error = largest_relative_difference(&frfs(&old), &exact);
-    assert!(moved_error < 1e-4, "moved: {moved_error:e}");
+    assert!(moved_error < 2.5e-4, "moved: {moved_error:e}");
     assert!(
         moved_error < 1e-2 * stale_error,
         "moved {moved_error:e}, old {stale_error:e}"
