@@ -61,6 +61,18 @@ fn direct(deck: &Deck, data: &TestData) -> Vec<Vec<faer::c64>> {
     frfs.channels.into_iter().map(|c| c.values).collect()
 }
 
+/// The largest |ΔH| of a channel's prediction `p` against the direct
+/// solution `e`, and the largest |H| of `e` (its scale).
+fn worst_and_scale(p: &[faer::c64], e: &[faer::c64]) -> (f64, f64) {
+    let scale = e.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let worst = p
+        .iter()
+        .zip(e)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    (worst, scale)
+}
+
 #[test]
 fn predictor_equals_the_direct_solution_for_every_damping_form() {
     let data = test_data();
@@ -79,12 +91,7 @@ fn predictor_equals_the_direct_solution_for_every_damping_form() {
         for (c, (p, e)) in pred.iter().zip(&exact).enumerate() {
             assert_eq!(p.len(), e.len(), "channel {c}: every line predicted");
             assert!(p.iter().all(|z| z.re.is_finite() && z.im.is_finite()));
-            let scale = e.iter().map(|z| z.norm()).fold(0.0, f64::max);
-            let worst = p
-                .iter()
-                .zip(e)
-                .map(|(a, b)| (a - b).norm())
-                .fold(0.0, f64::max);
+            let (worst, scale) = worst_and_scale(p, e);
             println!(
                 "{damping}: channel {c} worst |ΔH| / max|H| = {:.2e}",
                 worst / scale
@@ -186,12 +193,7 @@ fn predictor_with_the_band_modes_and_the_static_terms_equals_the_direct_solution
         let pred = predict(&mm, Damping::of_deck(&deck), &data, &Mask::all(&data));
         let exact = direct(&deck, &data);
         for (c, (p, e)) in pred.iter().zip(&exact).enumerate() {
-            let scale = e.iter().map(|z| z.norm()).fold(0.0, f64::max);
-            let worst = p
-                .iter()
-                .zip(e)
-                .map(|(a, b)| (a - b).norm())
-                .fold(0.0, f64::max);
+            let (worst, scale) = worst_and_scale(p, e);
             println!(
                 "{damping}: {kept} modes, channel {c} worst |ΔH| / max|H| = {:.2e}",
                 worst / scale

@@ -436,20 +436,16 @@ pub fn largest_eigenpairs_down_to(
     );
     let diag = Col::<f64>::from_fn(n, |i| c[(i, i)]);
     let subdiag = Col::<f64>::from_fn(n.saturating_sub(1), |i| c[(i + 1, i)]);
+    let d: Vec<f64> = diag.iter().copied().collect();
+    let e: Vec<f64> = subdiag.iter().copied().collect();
     let count = match floor {
-        Some(mu) if n > 0 => {
-            let d: Vec<f64> = diag.iter().copied().collect();
-            let e: Vec<f64> = subdiag.iter().copied().collect();
-            count.min(tridiagonal::count_above(&d, &e, mu) + 1).min(n)
-        }
+        Some(mu) if n > 0 => count.min(tridiagonal::count_above(&d, &e, mu) + 1).min(n),
         _ => count,
     };
     // A few of many: bisection and inverse iteration on T (O(n·count²) at
     // most) instead of all n eigenvectors of T; a full decomposition if its
     // checks fail.
     let subset = if subset_below > 0 && count * subset_below <= n && n >= 32 {
-        let d: Vec<f64> = diag.iter().copied().collect();
-        let e: Vec<f64> = subdiag.iter().copied().collect();
         tridiagonal::largest_pairs(&d, &e, count)
             .map(|(values, vecs)| (values, Mat::from_fn(n, count, |i, j| vecs[j][i])))
     } else {

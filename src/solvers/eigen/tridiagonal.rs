@@ -50,19 +50,30 @@ pub fn count_above(d: &[f64], e: &[f64], x: f64) -> usize {
     if n == 0 || e.len() + 1 != n {
         return 0;
     }
-    let norm = d.iter().chain(e).fold(0.0f64, |a, v| a.max(v.abs()));
-    let pivmin = f64::MIN_POSITIVE.max(f64::EPSILON * f64::EPSILON * norm);
+    let Some(bounds) = Bounds::of(d, e) else {
+        return 0;
+    };
     let mut below = 0;
     let mut q = 1.0;
     for i in 0..n {
         let e2 = if i > 0 { e[i - 1] * e[i - 1] } else { 0.0 };
-        q = d[i] - x - if i > 0 { e2 / q } else { 0.0 };
-        if q.abs() < pivmin {
-            q = -pivmin;
-        }
+        q = pivot(d[i], x, e2, q, bounds.pivmin);
         below += (q < 0.0) as usize;
     }
     n - below
+}
+
+/// The next pivot of the LDLᵀ factorisation of T − xI, q_i = d_i − x −
+/// e²_{i−1}/q_{i−1} (`e2` = 0 and any `previous` for the first), a zero one
+/// replaced by −`pivmin`.
+#[inline(always)]
+fn pivot(d: f64, x: f64, e2: f64, previous: f64, pivmin: f64) -> f64 {
+    let q = d - x - e2 / previous;
+    if q.abs() < pivmin {
+        -pivmin
+    } else {
+        q
+    }
 }
 
 /// The Gershgorin interval [lo, hi] of T, a norm of T, and the pivot that
@@ -152,10 +163,7 @@ fn bisect(d: &[f64], e: &[f64], count: usize, bounds: &Bounds) -> Vec<f64> {
             let (di, e2i) = (d[i], if i > 0 { e2[i - 1] } else { 0.0 });
             for s in 0..distinct {
                 let prev = if i > 0 { q[s] } else { 1.0 };
-                let mut qi = di - mid[s] - e2i / prev;
-                if qi.abs() < pivmin {
-                    qi = -pivmin;
-                }
+                let qi = pivot(di, mid[s], e2i, prev, pivmin);
                 negatives[s] += (qi < 0.0) as usize;
                 q[s] = qi;
             }

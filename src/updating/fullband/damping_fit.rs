@@ -48,6 +48,11 @@ pub fn damping_jacobian(
         .iter()
         .map(|&c| lines.iter().filter(|&&l| data.weight[c][l] != 0.0).count())
         .sum();
+    // The static terms' damping factor of each used line, shared by the channels.
+    let factors: Vec<(c64, c64, usize)> = lines
+        .iter()
+        .map(|&l| fit::static_factor(damping, data.omegas[l]))
+        .collect();
     let mut jac = Mat::<f64>::zeros(2 * rows, nd);
     let mut row = 0;
     for (k, &c) in channels.iter().enumerate() {
@@ -57,7 +62,7 @@ pub fn damping_jacobian(
                 continue;
             }
             let w = data.omegas[l];
-            let (f, df, with) = fit::static_factor(damping, w);
+            let (f, df, with) = factors[i];
             let stat = mm.residual[c] + w * w * mm.residual_mass[c];
             let h = f * stat + c64::new(sums[(i, k)], sums[(nl + i, k)]);
             let hm = h * crate::testdata::i_omega_power(w, data.kind.order());

@@ -290,6 +290,12 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
         }
     }
     let sums = coefficient_product(mm, &active, kernels);
+    // The static terms' damping factor of each line, shared by the channels.
+    let factors: Vec<c64> = data
+        .omegas
+        .iter()
+        .map(|&w| static_factor(damping, w).0)
+        .collect();
     let mut out: Vec<Vec<c64>> = vec![Vec::new(); data.channels.len()];
     for (k, &c) in active.iter().enumerate() {
         let mut used = 0;
@@ -299,8 +305,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
                     return c64::new(f64::NAN, f64::NAN);
                 }
                 let w = data.omegas[l];
-                let stat =
-                    static_factor(damping, w).0 * (mm.residual[c] + w * w * mm.residual_mass[c]);
+                let stat = factors[l] * (mm.residual[c] + w * w * mm.residual_mass[c]);
                 let h = stat + c64::new(sums[(used, k)], sums[(nl + used, k)]);
                 used += 1;
                 h * crate::testdata::i_omega_power(w, data.kind.order())
