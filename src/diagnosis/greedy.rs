@@ -8,7 +8,9 @@
 //! own parameters are updated again on the extended deck (taken then only
 //! at the noise level; at the end of the search when the fit improves).
 //! The search stops at the noise level, at `max_findings`, when the
-//! evaluation budget is spent or when no candidate passes.
+//! evaluation budget is spent or when no candidate passes; then the point
+//! extensions may move ([`places`]) and an extension the others have made
+//! redundant is dropped ([`prune`]).
 
 use std::cell::Cell;
 use std::collections::BTreeMap;
@@ -22,6 +24,7 @@ use super::fit::DampingState;
 use super::hypotheses::{prior, Hypothesis, Physics};
 use super::joint_screen;
 use super::places;
+use super::prune;
 use super::refit;
 use super::round::{search_round, Round};
 use super::search::Search;
@@ -108,6 +111,9 @@ pub(super) fn search(
     if !stop.load(Ordering::Relaxed) {
         search.update_at_end(&mut g, pending);
         if places::refine(search, &mut g) {
+            search.update_at_end(&mut g, None);
+        }
+        if prune::prune(search, &mut g) {
             search.update_at_end(&mut g, None);
         }
     }
@@ -546,6 +552,28 @@ impl Greedy {
             f.validation_error_after = v;
         }
         self.accepted[i].0 = moved;
+        self.take_refit(jf);
+        self.v = v;
+    }
+
+    /// Extension `i` dropped, the others at the values and damping of
+    /// `jf`, their joint fit without it (`v`: its validation cost); the
+    /// drop listed among the hypotheses tried (`j0`: the noise level, the
+    /// unit of the costs it quotes).
+    pub(super) fn take_removal(&mut self, i: usize, (jf, v): (&refit::JointFit, f64), j0: f64) {
+        let (old, value) = self.accepted.remove(i);
+        self.findings.remove(i);
+        self.rejected.push(Rejected {
+            label: old.label.clone(),
+            round: self.findings.len() + 1,
+            value,
+            validation_error: v,
+            reason: format!(
+                "dropped after the search: the other extensions, refitted without it, cost {:.2} against {:.2} × the noise level with it, within the margin",
+                jf.cost / j0,
+                self.cost / j0
+            ),
+        });
         self.take_refit(jf);
         self.v = v;
     }

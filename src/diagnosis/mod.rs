@@ -30,6 +30,7 @@ mod first_stage;
 mod greedy;
 mod joint_screen;
 mod places;
+mod prune;
 mod round;
 mod search;
 
