@@ -563,13 +563,18 @@ impl Greedy {
     pub(super) fn take_removal(&mut self, i: usize, (jf, v): (&refit::JointFit, f64), j0: f64) {
         let (old, value) = self.accepted.remove(i);
         self.findings.remove(i);
+        let without = if self.accepted.is_empty() {
+            "the model without it, its damping refitted,"
+        } else {
+            "the other extensions, refitted without it,"
+        };
         self.rejected.push(Rejected {
             label: old.label.clone(),
             round: self.findings.len() + 1,
             value,
             validation_error: v,
             reason: format!(
-                "dropped after the search: the other extensions, refitted without it, cost {:.2} against {:.2} × the noise level with it, within the margin",
+                "dropped after the search: {without} cost {:.2} against {:.2} × the noise level with it, within the margin",
                 jf.cost / j0,
                 self.cost / j0
             ),

@@ -745,7 +745,12 @@ fn an_extension_the_later_ones_made_redundant_is_dropped() {
     // Measured k = 253,966 ± 46 N·m/rad for 254,000.
     let k = json["findings"][0]["parameters"]["k"].as_f64();
     assert!(k.is_some_and(|k| (k / 2.54e5 - 1.0).abs() < 0.002), "{k:?}");
-    let dropped = json["rejected"]
+    assert_eq!(dropped(&json), vec!["added-mass at node 27"]);
+}
+
+/// The hypotheses of `json` dropped after the search.
+fn dropped(json: &serde_json::Value) -> Vec<&str> {
+    json["rejected"]
         .as_array()
         .into_iter()
         .flatten()
@@ -754,6 +759,28 @@ fn an_extension_the_later_ones_made_redundant_is_dropped() {
                 .as_str()
                 .is_some_and(|t| t.starts_with("dropped"))
         })
-        .count();
-    assert_eq!(dropped, 1, "{}", json["rejected"]);
+        .filter_map(|r| r["hypothesis"].as_str())
+        .collect()
+}
+
+/// Case 81 of the seed-1 set: a T-frame with channels 52+z and 73+x
+/// swapped and structural damping (η = 0.00715) where the deck has
+/// Rayleigh's. The swap and the damping (modal, ζ = 0.003577 = η/2) were
+/// found; an added mass at node 5 accepted in round 1 ended
+/// at 0.65 ± 0.34 g once the deck's parameters were updated with it, the
+/// fit at 0.97× the noise level: a false finding. The model without it,
+/// its damping refitted, costs the same within the margin: dropped.
+#[test]
+fn the_last_extension_the_update_made_redundant_is_dropped() {
+    let (s, json) = right_at_noise_level(81);
+    assert_eq!(
+        s.reported,
+        vec![
+            ("swapped-channels".to_string(), vec![52, 73]),
+            ("damping".to_string(), vec![])
+        ],
+        "{:?}",
+        s.reported
+    );
+    assert_eq!(dropped(&json), vec!["added-mass at node 5"]);
 }
