@@ -14,7 +14,7 @@
 
 use std::cell::Cell;
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use frfup_parsers::deck::Deck;
 
@@ -27,12 +27,13 @@ use super::places;
 use super::prune;
 use super::refit;
 use super::round::{search_round, Round};
-use super::search::Search;
+use super::search::{ReUpdate, Search};
 use super::select::{self, Engine, FitRequest, HypFit};
 use super::{sig, Alternative, DiagnoseError, Finding, Rejected};
 use crate::model::{self, ParameterValues};
 
 /// The state, then the outcome, of one greedy search.
+#[derive(Clone)]
 pub(super) struct Greedy {
     pub findings: Vec<Finding>,
     /// The accepted extensions in order, with their values (`None`: no
@@ -56,17 +57,44 @@ pub(super) struct Greedy {
     pub base_values: ParameterValues,
 }
 
-/// Greedy search from `start`: damping form, then extensions one at a time.
-/// `None` if no damping form gives a usable model. `stop`: end the search
-/// before its next round (its result is then not used).
-/// `start_values`: the deck's parameter values `start` carries (relative
-/// to the deck as given).
+/// One state of a greedy search: after some rounds, with the update of the
+/// deck's parameters made for it and the work spent to reach it (the
+/// engine's model-solution units).
+pub(super) struct RoundState {
+    g: Greedy,
+    pending: Option<ReUpdate>,
+    spent: usize,
+}
+
+/// The rounds of a greedy search: its state before any round and after each.
+pub(super) struct Rounds {
+    first: RoundState,
+    later: Vec<RoundState>,
+}
+
+/// Greedy search from `start` run to its end: [`rounds`], then
+/// [`Rounds::finish`] with every round kept. `None` if no damping form gives
+/// a usable model. `start_values`: the deck's parameter values `start`
+/// carries (relative to the deck as given).
 pub(super) fn search(
     search: &Search,
     start: &Deck,
     start_values: &ParameterValues,
-    stop: &AtomicBool,
 ) -> Result<Option<Greedy>, DiagnoseError> {
+    let no_limit = AtomicUsize::new(usize::MAX);
+    Ok(rounds(search, start, start_values, &no_limit)?.map(|r| r.finish(search, usize::MAX).0))
+}
+
+/// The rounds of the greedy search from `start`: damping form, then
+/// extensions one at a time, each round's state kept. No round starts once
+/// the search has `limit` extensions or more (`limit` may be lowered while
+/// the search runs: the states reached are the same, only fewer of them).
+pub(super) fn rounds(
+    search: &Search,
+    start: &Deck,
+    start_values: &ParameterValues,
+    limit: &AtomicUsize,
+) -> Result<Option<Rounds>, DiagnoseError> {
     let Some(mut g) = Greedy::start(search, start, start_values) else {
         return Ok(None);
     };
@@ -83,13 +111,20 @@ pub(super) fn search(
     // finding: two effects that mask each other need the second round. The
     // budget therefore bounds the rounds after the second.
     let mut pending = None;
+    let mut out = Rounds {
+        first: RoundState {
+            g: g.clone(),
+            pending: None,
+            spent: engine.spent(),
+        },
+        later: Vec::new(),
+    };
     for round in 0..opts.max_findings {
         let budget_left = round <= 1 || within_budget();
-        let stopped = stop.load(Ordering::Relaxed);
         if g.findings.len() >= opts.max_findings
             || search.at_noise_level(g.cost)
             || !budget_left
-            || stopped
+            || g.accepted.len() >= limit.load(Ordering::Relaxed)
         {
             break;
         }
@@ -102,13 +137,60 @@ pub(super) fn search(
         if !g.take_round(search, round, step, within_budget()) {
             break;
         }
-        if g.accepted.len() > accepted_before && !stop.load(Ordering::Relaxed) {
+        if g.accepted.len() > accepted_before {
             let before = engine.spent();
             pending = search.update_after_acceptance(&mut g);
             updates.set(updates.get() + engine.spent() - before);
         }
+        out.later.push(RoundState {
+            g: g.clone(),
+            pending: pending.clone(),
+            spent: engine.spent(),
+        });
     }
-    if !stop.load(Ordering::Relaxed) {
+    Ok(Some(out))
+}
+
+impl Rounds {
+    /// The last state with at most `most` extensions.
+    pub(super) fn last_with_at_most(self, most: usize) -> RoundState {
+        self.later
+            .into_iter()
+            .rev()
+            .find(|s| s.g.accepted.len() <= most)
+            .unwrap_or(self.first)
+    }
+
+    /// [`Rounds::last_with_at_most`] `most`, finished ([`RoundState::finish`]).
+    pub(super) fn finish(self, search: &Search, most: usize) -> (Greedy, usize) {
+        self.last_with_at_most(most).finish(search)
+    }
+}
+
+impl RoundState {
+    /// The labels of the accepted extensions, sorted.
+    pub(super) fn labels(&self) -> Vec<String> {
+        let mut l = self.g.used_labels();
+        l.sort();
+        l
+    }
+
+    /// The work spent to reach this state.
+    pub(super) fn spent(&self) -> usize {
+        self.spent
+    }
+
+    /// This state finished: the deck's parameters updated again, the point
+    /// extensions moved where they fit best ([`places`]) and an extension
+    /// the others made redundant dropped ([`prune`]). Also returns the work
+    /// spent to reach the state and to finish it.
+    pub(super) fn finish(self, search: &Search) -> (Greedy, usize) {
+        let RoundState {
+            mut g,
+            pending,
+            spent,
+        } = self;
+        let before = search.engine.spent();
         search.update_at_end(&mut g, pending);
         if places::refine(search, &mut g) {
             search.update_at_end(&mut g, None);
@@ -116,8 +198,8 @@ pub(super) fn search(
         if prune::prune(search, &mut g) {
             search.update_at_end(&mut g, None);
         }
+        (g, spent + search.engine.spent() - before)
     }
-    Ok(Some(g))
 }
 
 impl Greedy {
@@ -142,7 +224,7 @@ impl Greedy {
     }
 
     /// Labels of the accepted extensions (not proposed again).
-    fn used_labels(&self) -> Vec<String> {
+    pub(super) fn used_labels(&self) -> Vec<String> {
         self.accepted.iter().map(|(h, _)| h.label.clone()).collect()
     }
 
@@ -538,13 +620,19 @@ impl Greedy {
             value,
             validation_error: f64::NAN,
             reason: format!(
-                "moved to a neighbouring node after the search ({}): FRF cost {:.2} → {:.2} × the noise level, the deck's parameters held",
+                "{} after the search ({}): FRF cost {:.2} → {:.2} × the noise level, the deck's parameters held",
+                if moved.physics == old.physics {
+                    "moved to a neighbouring node"
+                } else {
+                    "taken as a mass of the other class beside it"
+                },
                 moved.label,
                 self.cost / j0,
                 jf.cost / j0
             ),
         });
         if let Some(f) = self.findings.get_mut(i) {
+            f.physics = moved.physics;
             f.nodes = moved.nodes.clone();
             f.label = moved.label.clone();
             f.alternatives.clear();

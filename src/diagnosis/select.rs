@@ -226,10 +226,10 @@ impl<'a> Engine<'a> {
         }
     }
 
-    /// Count the work and kept models of `other` (an engine made by
-    /// [`Self::beside`] whose search's result is used) as this one's.
-    pub fn absorb(&self, other: Engine) {
-        self.spend(other.spent());
+    /// Count `spent` units of the work of `other` (an engine made by
+    /// [`Self::beside`]) and its kept models as this one's.
+    pub fn absorb(&self, other: Engine, spent: usize) {
+        self.spend(spent);
         let kept = other.cache().hits();
         self.cache().hits += kept;
     }
