@@ -104,10 +104,19 @@ fn modal_sums(
     let (nl, nm) = (lines.len(), mm.omega2.len());
     let blocks = 1 + x.len();
     let mut kernels = Mat::<f64>::zeros(2 * blocks * nl, nm);
+    let omegas: Vec<f64> = lines.iter().map(|&l| data.omegas[l]).collect();
+    let (mut inv_re, mut inv_im) = (vec![0.0; nl], vec![0.0; nl]);
     for (r, &lam) in mm.omega2.iter().enumerate() {
-        for (i, &l) in lines.iter().enumerate() {
-            let w = data.omegas[l];
-            let inv = fit::denominator(lam, w, damping).0.inv();
+        // 1/d_r of fit::denominator at every line.
+        fit::kernel_column(
+            lam,
+            damping.modal_term(lam),
+            &omegas,
+            &mut inv_re,
+            &mut inv_im,
+        );
+        for (i, &w) in omegas.iter().enumerate() {
+            let inv = c64::new(inv_re[i], inv_im[i]);
             (kernels[(i, r)], kernels[(nl + i, r)]) = (inv.re, inv.im);
             // D is evaluated at max(λ, 0) (Damping::modal_term).
             let dd = form.term_derivatives(e, lam.max(0.0), w);

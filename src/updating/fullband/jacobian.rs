@@ -304,10 +304,19 @@ fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> Spl
     let e = DampingForm::exp_parameters(pt.damping);
     let mut qr = Mat::<f64>::zeros(lines.len(), lam.len());
     let mut qi = Mat::<f64>::zeros(lines.len(), lam.len());
-    for (i, &l) in lines.iter().enumerate() {
-        let w = data.omegas[l];
-        for (r, &lr) in lam.iter().enumerate() {
-            let inv = fit::denominator(lr, w, damping).0.inv();
+    let omegas: Vec<f64> = lines.iter().map(|&l| data.omegas[l]).collect();
+    let (mut inv_re, mut inv_im) = (vec![0.0; omegas.len()], vec![0.0; omegas.len()]);
+    for (r, &lr) in lam.iter().enumerate() {
+        // 1/d_r of fit::denominator at every line.
+        fit::kernel_column(
+            lr,
+            damping.modal_term(lr),
+            &omegas,
+            &mut inv_re,
+            &mut inv_im,
+        );
+        for (i, &w) in omegas.iter().enumerate() {
+            let inv = c64::new(inv_re[i], inv_im[i]);
             let q = c64::new(0.0, -pt.form.term_derivatives(e, lr, w)[k]) * inv * inv;
             (qr[(i, r)], qi[(i, r)]) = (q.re, q.im);
         }
