@@ -291,21 +291,22 @@ pub(super) fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f
         })
         .collect();
     let tr = Mat::from_fn(support.len(), t.ncols(), |i, k| t[(support[i], k)]);
-    let mut sr = Mat::<f64>::zeros(support.len(), t.ncols());
-    for k in 0..t.ncols() {
-        let (src, dst) = (tr.col(k), sr.col_mut(k));
-        let (src, dst) = (
-            src.try_as_col_major()
-                .expect("a column is contiguous")
-                .as_slice(),
-            dst.try_as_col_major_mut()
-                .expect("a column is contiguous")
-                .as_slice_mut(),
-        );
-        for &(i, jc, v) in &entries {
-            dst[i] += v * src[jc];
+    // Row i of S T is Σ v·(row jc of T) over S's entries (i, jc, v) in
+    // their order: each entry of S T sums the same terms in the same order
+    // as column by column, but along rows, which are contiguous here.
+    let m = t.ncols();
+    let tr_ref = tr.as_ref();
+    let rows_of_t: Vec<f64> = (0..support.len())
+        .flat_map(|i| (0..m).map(move |k| tr_ref[(i, k)]))
+        .collect();
+    let mut rows_of_st = vec![0.0; support.len() * m];
+    for &(i, jc, v) in &entries {
+        let src = &rows_of_t[jc * m..(jc + 1) * m];
+        for (d, s) in rows_of_st[i * m..(i + 1) * m].iter_mut().zip(src) {
+            *d += v * s;
         }
     }
+    let sr = Mat::from_fn(support.len(), m, |i, k| rows_of_st[i * m + k]);
     let mut out = Mat::<f64>::zeros(t.ncols(), t.ncols());
     matmul(
         out.as_mut(),
