@@ -247,11 +247,25 @@ fn checked(d: &[f64], e: &[f64], values: &[f64], vectors: &[Vec<f64>], norm: f64
     }
     let check = 1e-10;
     for i in 0..vectors.len() {
-        for j in 0..=i {
-            let dot: f64 = vectors[i].iter().zip(&vectors[j]).map(|(a, b)| a * b).sum();
-            let expect = if i == j { 1.0 } else { 0.0 };
-            if (dot - expect).abs() > check {
-                return false;
+        // z_iᵀz_j for four j at once: each sum in its own order, the four
+        // chains of additions overlapping.
+        let zi = &vectors[i];
+        for j0 in (0..=i).step_by(4) {
+            // The last group repeats its last vector where fewer are left.
+            let width = (i + 1 - j0).min(4);
+            let zj: [&[f64]; 4] =
+                std::array::from_fn(|t| &vectors[j0 + t.min(width - 1)][..zi.len()]);
+            let mut dots = [0.0; 4];
+            for (k, &a) in zi.iter().enumerate() {
+                for t in 0..4 {
+                    dots[t] += a * zj[t][k];
+                }
+            }
+            for (t, dot) in dots.iter().enumerate().take(width) {
+                let expect = if i == j0 + t { 1.0 } else { 0.0 };
+                if (dot - expect).abs() > check {
+                    return false;
+                }
             }
         }
     }
