@@ -527,7 +527,7 @@ fn lanes(v: &[f64], start: usize) -> &[f64; LANES] {
 /// The mean of [`point_misfit`] over the points z = `z_re` + i`z_im` with
 /// weights² `w2` (those of w² = 0 left out; +∞ when none is left), summed in
 /// their order; `LANES` points at a time ([`point_misfits`]).
-fn mean_misfit(z_re: &[f64], z_im: &[f64], w2: &[f64]) -> f64 {
+pub fn mean_misfit(z_re: &[f64], z_im: &[f64], w2: &[f64]) -> f64 {
     let (mut sum, mut n) = (0.0, 0usize);
     let full = w2.len() / LANES * LANES;
     for p0 in (0..full).step_by(LANES) {
@@ -618,50 +618,4 @@ fn minimise(f: impl Fn(f64) -> f64, lo: f64, hi: f64) -> (f64, f64) {
         .into_iter()
         .min_by(|x, y| x.1.total_cmp(&y.1))
         .unwrap_or(grid[best])
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The misfits taken `LANES` at a time sum to the same bits as one
-    /// point at a time, over blocks and a tail, with left-out points, a
-    /// zero ratio and a subnormal |z|² among them; an overflowing |z|² and
-    /// a NaN give what one point at a time gives.
-    #[test]
-    fn misfits_in_lanes_are_the_misfits_of_one_point_at_a_time() {
-        let count = 3 * LANES + 5;
-        let mut seed = 0x9E37_79B9_7F4A_7C15u64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
-        let mut z: Vec<c64> = (0..count)
-            .map(|_| c64::new(4.0 * next() - 2.0, 4.0 * next() - 2.0))
-            .collect();
-        let mut w2: Vec<f64> = (0..count).map(|_| next()).collect();
-        (z[3], z[LANES + 1], w2[5], w2[count - 2]) =
-            (c64::new(0.0, 0.0), c64::new(1e-170, -3e-170), 0.0, 0.0);
-        let (re, im): (Vec<f64>, Vec<f64>) = z.iter().map(|z| (z.re, z.im)).unzip();
-        let (mut sum, mut n) = (0.0, 0usize);
-        for (z, &w) in z.iter().zip(&w2).filter(|(_, w)| **w != 0.0) {
-            sum += point_misfit(*z, w);
-            n += 1;
-        }
-        let expected = sum / n as f64;
-        assert!(expected.is_finite() && expected > 0.0);
-        assert_eq!(mean_misfit(&re, &im, &w2).to_bits(), expected.to_bits());
-        // |z|² overflows (hypot): +∞ as one point gives; a NaN ratio makes
-        // the mean NaN; no point left makes it +∞.
-        let mut big = re.clone();
-        big[LANES + 2] = 1e200;
-        assert!(point_misfit(c64::new(1e200, im[LANES + 2]), 1.0).is_infinite());
-        assert_eq!(mean_misfit(&big, &im, &w2), f64::INFINITY);
-        let mut nan = re.clone();
-        nan[2] = f64::NAN;
-        assert!(mean_misfit(&nan, &im, &w2).is_nan());
-        assert_eq!(mean_misfit(&re, &im, &vec![0.0; count]), f64::INFINITY);
-    }
 }

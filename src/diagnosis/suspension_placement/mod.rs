@@ -32,7 +32,7 @@ use crate::model::{self, Dof, ParameterValues};
 use crate::updating::correlation::mac;
 
 mod low_band;
-pub use low_band::{low_band_placements, point_misfit};
+pub use low_band::{low_band_placements, mean_misfit, point_misfit};
 
 /// Test modes below this fraction of the deck's first elastic frequency are
 /// the suspension's.

@@ -320,13 +320,7 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
 /// operations of [`ModalDampingTerm::at`] and `c64::inv`, in their order
 /// (the same bits), four lines at a time: their divisions, most of a
 /// prediction's own time, then share instructions.
-pub(super) fn kernel_column(
-    w2: f64,
-    t: ModalDampingTerm,
-    omegas: &[f64],
-    re: &mut [f64],
-    im: &mut [f64],
-) {
+pub fn kernel_column(w2: f64, t: ModalDampingTerm, omegas: &[f64], re: &mut [f64], im: &mut [f64]) {
     const LANES: usize = 4;
     let full = omegas.len() / LANES * LANES;
     for j0 in (0..full).step_by(LANES) {
@@ -791,50 +785,4 @@ pub fn start_damping(deck_damping: Damping, data: &TestData) -> DampingState {
                 x: DampingForm::Modal.start(data.half_power_zeta(), wc),
             }
         })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The kernels four lines at a time are `ModalDampingTerm::at(..).inv()`
-    /// line by line, bit for bit, for every damping form, over blocks and a
-    /// tail, at 0 rad/s and on the resonance of an undamped mode.
-    #[test]
-    fn kernel_columns_are_the_inverses_line_by_line() {
-        let w2: f64 = 3.7e4;
-        let omegas: Vec<f64> = (0..11)
-            .map(|i| match i {
-                0 => 0.0,
-                5 => w2.sqrt(),
-                _ => 17.3 * i as f64 + 0.1,
-            })
-            .collect();
-        let forms = [
-            Damping::None,
-            Damping::Modal { zeta: 0.013 },
-            Damping::Rayleigh {
-                alpha: 2.1,
-                beta: 3.0e-6,
-            },
-            Damping::Hysteretic { eta: 0.02 },
-        ];
-        for damping in forms {
-            let t = damping.modal_term(w2);
-            let (mut re, mut im) = (vec![0.0; 11], vec![0.0; 11]);
-            kernel_column(w2, t, &omegas, &mut re, &mut im);
-            for (j, &w) in omegas.iter().enumerate() {
-                let inv = t.at(w2, w).inv();
-                let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan();
-                assert!(
-                    same(re[j], inv.re) && same(im[j], inv.im),
-                    "{damping:?} line {j}: ({}, {}) against ({}, {})",
-                    re[j],
-                    im[j],
-                    inv.re,
-                    inv.im
-                );
-            }
-        }
-    }
 }

@@ -270,3 +270,42 @@ fn a_low_band_point_misfit_is_symmetric_and_never_nan() {
     let huge = point_misfit(c64::new(1e200, 1e200), 1.0);
     assert_eq!(huge, f64::INFINITY);
 }
+
+/// `mean_misfit` (the low band's misfit, eight points at a time) sums to
+/// the same bits as `point_misfit` one point at a time, over three blocks
+/// and a tail of five, with left-out points, a zero ratio and a subnormal
+/// |z|² among them; an overflowing |z|² and a NaN give what one point at a
+/// time gives.
+#[test]
+fn the_misfits_in_blocks_are_the_misfits_of_one_point_at_a_time() {
+    let count = 29;
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut z: Vec<c64> = (0..count)
+        .map(|_| c64::new(4.0 * next() - 2.0, 4.0 * next() - 2.0))
+        .collect();
+    let mut w2: Vec<f64> = (0..count).map(|_| next()).collect();
+    (z[3], z[9], w2[5], w2[count - 2]) = (c64::new(0.0, 0.0), c64::new(1e-170, -3e-170), 0.0, 0.0);
+    let (re, im): (Vec<f64>, Vec<f64>) = z.iter().map(|z| (z.re, z.im)).unzip();
+    let (mut sum, mut n) = (0.0, 0usize);
+    for (z, &w) in z.iter().zip(&w2).filter(|(_, w)| **w != 0.0) {
+        sum += point_misfit(*z, w);
+        n += 1;
+    }
+    let expected = sum / n as f64;
+    assert!(expected.is_finite() && expected > 0.0);
+    assert_eq!(mean_misfit(&re, &im, &w2).to_bits(), expected.to_bits());
+    let mut big = re.clone();
+    big[10] = 1e200;
+    assert!(point_misfit(c64::new(1e200, im[10]), 1.0).is_infinite());
+    assert_eq!(mean_misfit(&big, &im, &w2), f64::INFINITY);
+    let mut nan = re.clone();
+    nan[2] = f64::NAN;
+    assert!(mean_misfit(&nan, &im, &w2).is_nan());
+    assert_eq!(mean_misfit(&re, &im, &vec![0.0; count]), f64::INFINITY);
+}

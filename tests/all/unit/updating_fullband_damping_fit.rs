@@ -159,3 +159,46 @@ fn a_rayleigh_deck_with_one_zero_coefficient_keeps_its_form() {
     };
     assert_eq!(DampingForm::of(none, w_lo, w_hi), None);
 }
+
+/// `fit::kernel_column` (four lines at a time) is
+/// `ModalDampingTerm::at(..).inv()` line by line, bit for bit, for every
+/// damping form, over blocks and a tail, at 0 rad/s and on the resonance
+/// of an undamped mode (0/0 there, NaN either way).
+#[test]
+fn kernel_columns_are_the_inverses_line_by_line() {
+    use frfup::model::Damping;
+    let w2: f64 = 3.7e4;
+    let omegas: Vec<f64> = (0..11)
+        .map(|i| match i {
+            0 => 0.0,
+            5 => w2.sqrt(),
+            _ => 17.3 * i as f64 + 0.1,
+        })
+        .collect();
+    let forms = [
+        Damping::None,
+        Damping::Modal { zeta: 0.013 },
+        Damping::Rayleigh {
+            alpha: 2.1,
+            beta: 3.0e-6,
+        },
+        Damping::Hysteretic { eta: 0.02 },
+    ];
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan();
+    for damping in forms {
+        let t = damping.modal_term(w2);
+        let (mut re, mut im) = (vec![0.0; 11], vec![0.0; 11]);
+        fit::kernel_column(w2, t, &omegas, &mut re, &mut im);
+        for (j, &w) in omegas.iter().enumerate() {
+            let inv = t.at(w2, w).inv();
+            assert!(
+                same(re[j], inv.re) && same(im[j], inv.im),
+                "{damping:?} line {j}: ({}, {}) against ({}, {})",
+                re[j],
+                im[j],
+                inv.re,
+                inv.im
+            );
+        }
+    }
+}
