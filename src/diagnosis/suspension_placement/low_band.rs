@@ -70,8 +70,8 @@ struct LowBand<'a> {
     /// `lines[j]`, the modes of the basis left out.
     rest: Vec<Vec<c64>>,
     /// w² and 1/H_test at the same points (w the fit's weight; w = 0: the
-    /// point is left out).
-    weight2: Vec<Vec<f64>>,
+    /// point is left out); w² flat, channel by channel.
+    weight2: Vec<f64>,
     inv_test: Vec<Vec<c64>>,
     /// ω² of the basis: the rigid-body modes (0) first, then the coupled
     /// elastic modes.
@@ -320,7 +320,7 @@ impl<'a> LowBand<'a> {
             .collect();
         let rest = at_points(&channels, &lines, |c, l| pred[c][l]);
         let inv_test = at_points(&channels, &lines, |c, l| data.values[c][l].inv());
-        let weight2 = at_points(&channels, &lines, |c, l| data.weight[c][l].powi(2));
+        let weight2 = at_points(&channels, &lines, |c, l| data.weight[c][l].powi(2)).concat();
         let shapes = &sol.modes.shapes;
         let row = |eq: usize| -> Vec<f64> { basis.iter().map(|&r| shapes[(eq, r)]).collect() };
         let omega2 = basis
@@ -371,7 +371,11 @@ impl<'a> LowBand<'a> {
             damping: self.damping,
             lines: self.lines.iter().step_by(step).copied().collect(),
             rest: keep(&self.rest, step),
-            weight2: keep(&self.weight2, step),
+            weight2: self
+                .weight2
+                .chunks(self.lines.len().max(1))
+                .flat_map(|w| w.iter().step_by(step).copied())
+                .collect(),
             inv_test: keep(&self.inv_test, step),
             omega2: self.omega2.clone(),
             rigid: self.rigid,
@@ -509,8 +513,7 @@ impl<'a> LowBand<'a> {
                 (z_re[j], z_im[j]) = (z.re, z.im);
             }
         }
-        let weight2: Vec<f64> = self.weight2.iter().flatten().copied().collect();
-        mean_misfit(&z_re, &z_im, &weight2)
+        mean_misfit(&z_re, &z_im, &self.weight2)
     }
 }
 

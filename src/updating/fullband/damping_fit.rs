@@ -107,17 +107,10 @@ fn modal_sums(
     let omegas: Vec<f64> = lines.iter().map(|&l| data.omegas[l]).collect();
     let (mut inv_re, mut inv_im) = (vec![0.0; nl], vec![0.0; nl]);
     for (r, &lam) in mm.omega2.iter().enumerate() {
-        // 1/d_r of fit::denominator at every line.
-        fit::kernel_column(
-            lam,
-            damping.modal_term(lam),
-            &omegas,
-            &mut inv_re,
-            &mut inv_im,
-        );
+        fit::inverse_denominators(lam, damping, &omegas, &mut inv_re, &mut inv_im);
         for (i, &w) in omegas.iter().enumerate() {
             let inv = c64::new(inv_re[i], inv_im[i]);
-            (kernels[(i, r)], kernels[(nl + i, r)]) = (inv.re, inv.im);
+            (kernels[(i, r)], kernels[(nl + i, r)]) = (inv_re[i], inv_im[i]);
             // D is evaluated at max(λ, 0) (Damping::modal_term).
             let dd = form.term_derivatives(e, lam.max(0.0), w);
             for (j, &d) in dd.iter().enumerate().take(x.len()) {

@@ -315,6 +315,19 @@ pub fn predict(mm: &ModalModel, damping: Damping, data: &TestData, mask: &Mask) 
     out
 }
 
+/// 1/d_r(ω) of the mode of ω_r² = `lam` with `damping` at the lines
+/// `omegas` (rad/s), as [`denominator`]'s first part inverted, written into
+/// `re` and `im` ([`kernel_column`] with the mode's damping term).
+pub fn inverse_denominators(
+    lam: f64,
+    damping: Damping,
+    omegas: &[f64],
+    re: &mut [f64],
+    im: &mut [f64],
+) {
+    kernel_column(lam, damping.modal_term(lam), omegas, re, im);
+}
+
 /// 1/d_r(ω) of the mode of ω_r² = `w2` and damping term `t` at the lines
 /// `omegas` (rad/s): real parts into `re`, imaginary parts into `im`. The
 /// operations of [`ModalDampingTerm::at`] and `c64::inv`, in their order

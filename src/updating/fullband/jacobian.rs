@@ -307,14 +307,7 @@ fn damping_kernel(pt: &Point, data: &TestData, lines: &[usize], k: usize) -> Spl
     let omegas: Vec<f64> = lines.iter().map(|&l| data.omegas[l]).collect();
     let (mut inv_re, mut inv_im) = (vec![0.0; omegas.len()], vec![0.0; omegas.len()]);
     for (r, &lr) in lam.iter().enumerate() {
-        // 1/d_r of fit::denominator at every line.
-        fit::kernel_column(
-            lr,
-            damping.modal_term(lr),
-            &omegas,
-            &mut inv_re,
-            &mut inv_im,
-        );
+        fit::inverse_denominators(lr, damping, &omegas, &mut inv_re, &mut inv_im);
         for (i, &w) in omegas.iter().enumerate() {
             let inv = c64::new(inv_re[i], inv_im[i]);
             let q = c64::new(0.0, -pt.form.term_derivatives(e, lr, w)[k]) * inv * inv;

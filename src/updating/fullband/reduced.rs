@@ -295,9 +295,9 @@ pub(super) fn project(s: &SparseMatrix, t: MatRef<'_, f64>, scale: f64) -> Mat<f
     // their order: each entry of S T sums the same terms in the same order
     // as column by column, but along rows, which are contiguous here.
     let m = t.ncols();
-    let tr_ref = tr.as_ref();
-    let rows_of_t: Vec<f64> = (0..support.len())
-        .flat_map(|i| (0..m).map(move |k| tr_ref[(i, k)]))
+    let rows_of_t: Vec<f64> = support
+        .iter()
+        .flat_map(|&r| (0..m).map(move |k| t[(r, k)]))
         .collect();
     let mut rows_of_st = vec![0.0; support.len() * m];
     for &(i, jc, v) in &entries {
