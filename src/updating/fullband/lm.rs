@@ -3,7 +3,7 @@
 //!
 //! Minimises Σ r_i(x)² within lo ≤ x ≤ hi. Step: (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr
 //! over the free unknowns (lo < hi), each component clamped to
-//! ±[`LeastSquares::max_step`] (2 unless the problem says otherwise) and the
+//! ±[`LeastSquares::max_step`] ([`MAX_STEP`] unless the problem says otherwise) and the
 //! new point to the bounds; a step is taken only if it lowers the cost (λ
 //! then shrinks ×3), else λ grows ×10 (at most [`LmSettings::tries`] times). A problem that
 //! approximates its residuals near an anchor (see [`LeastSquares::accepted`])
@@ -38,9 +38,12 @@ pub trait LeastSquares {
     fn recycle(&mut self, _jac: Mat<f64>) {}
     /// Largest change of unknown `i` in one step (a trust region per unknown).
     fn max_step(&self, _i: usize) -> f64 {
-        2.0
+        MAX_STEP
     }
 }
+
+/// The default largest change of an unknown in one step.
+pub const MAX_STEP: f64 = 2.0;
 
 /// Iteration limit and early stop of [`lm`].
 #[derive(Clone, Copy, Debug)]

@@ -26,6 +26,14 @@ use super::FitError;
 pub const ANCHOR_DRIFT: f64 = 0.05;
 /// Re-anchorings at the end of one minimisation, at most.
 const MAX_ANCHORS: usize = 4;
+/// Largest change of a structural unknown p̄_j in one Levenberg–Marquardt
+/// step: the property changes by at most its deck value. A parameter the
+/// data barely see at the start has a Gauss–Newton step far beyond where
+/// its linearisation holds; with [`lm`]'s general limit of 2, the GARTEUR
+/// demo's `tail_Iz` walked 0 → 8 → 0 in steps of 2, 12 of the first pass's
+/// 26 iterations (10 with this limit, the same estimate to 1e-6). The
+/// damping's log parameters keep the general limit.
+pub const MAX_PARAMETER_STEP: f64 = 1.0;
 
 /// The objective F on one data set.
 pub struct Objective<'a> {
@@ -129,6 +137,14 @@ impl LeastSquares for Objective<'_> {
 
     fn recycle(&mut self, jac: Mat<f64>) {
         self.spare = Some(jac);
+    }
+
+    fn max_step(&self, i: usize) -> f64 {
+        if i < self.np() {
+            MAX_PARAMETER_STEP
+        } else {
+            lm::MAX_STEP
+        }
     }
 
     fn accepted(&mut self, x: &[f64]) -> Option<Vec<f64>> {
