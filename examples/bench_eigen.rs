@@ -126,6 +126,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         krylov_dofs_per_mode: if dense { 0 } else { 1 },
         expect_no_rigid_body_modes: fe.has_fixed_dofs,
         cover_omega2: None,
+        grow_to_cover: false,
     };
     // Best of `--repeat` solves (the first pays for page faults and thread start-up).
     let mut eigen_s = f64::INFINITY;

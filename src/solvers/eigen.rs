@@ -86,6 +86,13 @@ pub struct EigenOptions {
     /// The dense path counts them on its tridiagonal form (a Sturm count);
     /// the Krylov path returns `count`.
     pub cover_omega2: Option<f64>,
+    /// With `cover_omega2`, the dense path returns every mode up to it and
+    /// the one above even when they are more than `count`: `count` doubles
+    /// until it covers them, all the modes once it reaches n (see
+    /// [`dense::Cover::grow`]), so a caller that would solve again with
+    /// twice the count gets the same modes from one solution. The Krylov
+    /// path still returns `count`.
+    pub grow_to_cover: bool,
 }
 
 impl Default for EigenOptions {
@@ -96,6 +103,7 @@ impl Default for EigenOptions {
             krylov_dofs_per_mode: KRYLOV_DOFS_PER_MODE,
             expect_no_rigid_body_modes: false,
             cover_omega2: None,
+            grow_to_cover: false,
         }
     }
 }
@@ -308,7 +316,11 @@ pub fn lowest_modes_with(
     }
     let dense_path = |report: &mut EigenReport| -> Result<Mat<f64>, EigenError> {
         let shift = tuning.shift.unwrap_or(-1e-4 * scale.median_ratio);
-        let (phi, used) = dense::shift_invert(k, m, count, opts.cover_omega2, shift)?;
+        let cover = opts.cover_omega2.map(|omega2| dense::Cover {
+            omega2,
+            grow: opts.grow_to_cover,
+        });
+        let (phi, used) = dense::shift_invert(k, m, count, cover, shift)?;
         report.path = EigenPath::Dense;
         report.initial_shift = shift;
         report.shift = used;

@@ -18,6 +18,7 @@ fn opts(count: usize, dense: bool, fixed: bool) -> EigenOptions {
         krylov_dofs_per_mode: 0,
         expect_no_rigid_body_modes: fixed,
         cover_omega2: None,
+        grow_to_cover: false,
     }
 }
 
@@ -504,4 +505,37 @@ fn krylov_failure_on_a_dense_size_model_falls_back_to_dense() {
         lowest_modes_with(&kk, &mm, &sparse_only, &no_restarts),
         Err(EigenError::NoConvergence { .. })
     ));
+}
+
+/// A growing cover (`grow_to_cover`) gives in one solution the modes a
+/// caller doubling its count would get: on a 300-mass fixed–free chain with
+/// ω²_top between the 56th and 57th closed-form modes, 40 asked give the 57
+/// modes up to it and the one above, the same bits as asking 80 with the
+/// cover (the caller's second solution); on a 60-mass chain whose 50 modes
+/// lie below ω²_top, every mode, the same bits as asking 60 without a cover.
+/// Without growth the 40 asked.
+#[test]
+fn a_growing_cover_solves_once_what_doubling_the_count_would() {
+    let (k, m) = (1.0e4, 0.5);
+    let cases = [(300, 56, 57, 80, true), (60, 50, 60, 60, false)];
+    for (n, below, expect, again, cover_again) in cases {
+        let (kk, mm) = chain(n, k, m, true);
+        let w = |j: usize| fixed_free_omega(n, k, m, j).powi(2);
+        let top = 0.5 * (w(below) + w(below + 1));
+        let with = |count: usize, cover: bool, grow: bool| {
+            let o = EigenOptions {
+                cover_omega2: cover.then_some(top),
+                grow_to_cover: grow,
+                ..opts(count, true, true)
+            };
+            lowest_modes(&kk, &mm, &o).unwrap()
+        };
+        let grown = with(40, true, true);
+        assert_eq!(grown.len(), expect, "n = {n}");
+        let doubled = with(again, cover_again, false);
+        assert_eq!(doubled.len(), expect, "n = {n}");
+        assert_eq!(grown.omega2, doubled.omega2, "n = {n}");
+        assert!(grown.shapes == doubled.shapes, "n = {n}: shapes differ");
+        assert_eq!(with(40, true, false).len(), 40, "n = {n}");
+    }
 }

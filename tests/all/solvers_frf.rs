@@ -38,6 +38,7 @@ fn all_modes(
             krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: false,
             cover_omega2: None,
+            grow_to_cover: false,
         },
     )
     .unwrap()
@@ -142,6 +143,7 @@ fn residual_improves_truncated_superposition() {
             krylov_dofs_per_mode: 0,
             expect_no_rigid_body_modes: true,
             cover_omega2: None,
+            grow_to_cover: false,
         },
     )
     .unwrap();

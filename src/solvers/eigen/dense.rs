@@ -66,9 +66,9 @@ const SEQUENTIAL_BELOW: usize = 600;
 
 /// Tries σ, 100σ, 10⁴σ, … until K − σM is numerically positive definite.
 /// Returns the `count` lowest (unnormalised) mode shapes, lowest first, and
-/// the σ used; with `cover_omega2` = Some(ω²_top), only those with
-/// ω² ≤ ω²_top and the one above them when they are fewer than `count`
-/// (counted on T as the μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ)).
+/// the σ used; with `cover` = Some, the modes with ω² ≤ ω²_top and the one
+/// above them (counted on T as the μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ)), at most
+/// `count` of them unless [`Cover::grow`].
 ///
 /// When a reverse Cuthill–McKee renumbering of the unknowns shrinks the
 /// envelope of K and M below [`RENUMBER_BELOW`] of the deck's own, the pencil
@@ -77,17 +77,17 @@ pub fn shift_invert(
     k: &SparseMatrix,
     m: &SparseMatrix,
     count: usize,
-    cover_omega2: Option<f64>,
+    cover: Option<Cover>,
     shift: f64,
 ) -> Result<(Mat<f64>, f64), EigenError> {
     let Some(order) = narrower_order(k, m) else {
-        return shift_invert_in_order(k, m, count, cover_omega2, shift);
+        return shift_invert_in_order(k, m, count, cover, shift);
     };
     let (y, sigma) = shift_invert_in_order(
         &renumbered(k, &order)?,
         &renumbered(m, &order)?,
         count,
-        cover_omega2,
+        cover,
         shift,
     )?;
     // Row p of y is unknown order[p].
@@ -144,7 +144,7 @@ fn shift_invert_in_order(
     k: &SparseMatrix,
     m: &SparseMatrix,
     count: usize,
-    cover_omega2: Option<f64>,
+    cover: Option<Cover>,
     shift: f64,
 ) -> Result<(Mat<f64>, f64), EigenError> {
     let trace = std::env::var_os("FRFUP_EIGEN_TRACE").is_some();
@@ -180,10 +180,13 @@ fn shift_invert_in_order(
     let c = reduce(l.as_ref(), m, &envelope, par);
     lap("reduction");
     // ω² ≤ ω²_top ⟺ μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ) (σ < 0 < ω²_top).
-    let floor = cover_omega2
-        .filter(|w2| *w2 > sigma && w2.is_finite())
-        .map(|w2| 1.0 / (w2 - sigma));
-    let (_, mut y, _) = largest_eigenpairs_down_to(c, count, floor, par, SUBSET_BELOW)?;
+    let floor = cover
+        .filter(|cv| cv.omega2 > sigma && cv.omega2.is_finite())
+        .map(|cv| Floor {
+            mu: 1.0 / (cv.omega2 - sigma),
+            grow: cv.grow,
+        });
+    let (_, mut y, _) = largest_eigenpairs_covering(c, count, floor, par, SUBSET_BELOW)?;
     lap("evd");
     back_substitute(l.as_ref(), &envelope, y.as_mut(), par);
     lap("back-substitution");
@@ -408,9 +411,61 @@ pub fn largest_eigenpairs(
 /// eigenvalues ≥ μ_min and the one below them (a Sturm count on the
 /// tridiagonal form, before any eigenvector is computed).
 pub fn largest_eigenpairs_down_to(
-    mut c: Mat<f64>,
+    c: Mat<f64>,
     count: usize,
     floor: Option<f64>,
+    par: Par,
+    subset_below: usize,
+) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
+    let floor = floor.map(|mu| Floor { mu, grow: false });
+    largest_eigenpairs_covering(c, count, floor, par, subset_below)
+}
+
+/// Which modes [`shift_invert`] returns besides its count: those with
+/// ω² ≤ `omega2` and the one above them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cover {
+    /// ω²_top (rad²/s²).
+    pub omega2: f64,
+    /// False: at most `count` of them. True: `count` is a first guess that
+    /// doubles until the modes reach past ω²_top, every mode once it reaches
+    /// n (then as if there were no cover): what a caller solving again with
+    /// twice the count would get, in one solution ([`covering_count`]).
+    pub grow: bool,
+}
+
+/// The eigenvalues μ ≥ `mu` of [`largest_eigenpairs_covering`] and the one
+/// below them, at most `count` of them unless `grow` (see [`Cover::grow`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Floor {
+    pub mu: f64,
+    pub grow: bool,
+}
+
+/// The number of eigenpairs returned for `count` asked when `wanted` (the
+/// Sturm count above the floor, plus one) reach it, of `n`: at most `count`
+/// without `grow`; with it, `count` doubled until it is at least `wanted`,
+/// and all `n` once it reaches `n`.
+pub fn covering_count(count: usize, wanted: usize, n: usize, grow: bool) -> usize {
+    if !grow {
+        return count.min(wanted).min(n);
+    }
+    let mut c = count.max(1);
+    while c < wanted && c < n {
+        c = (2 * c).min(n);
+    }
+    if c >= n {
+        n
+    } else {
+        wanted
+    }
+}
+
+/// [`largest_eigenpairs_down_to`] with the floor's count rule of [`Floor`].
+pub fn largest_eigenpairs_covering(
+    mut c: Mat<f64>,
+    count: usize,
+    floor: Option<Floor>,
     par: Par,
     subset_below: usize,
 ) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
@@ -439,7 +494,9 @@ pub fn largest_eigenpairs_down_to(
     let d: Vec<f64> = diag.iter().copied().collect();
     let e: Vec<f64> = subdiag.iter().copied().collect();
     let count = match floor {
-        Some(mu) if n > 0 => count.min(tridiagonal::count_above(&d, &e, mu) + 1).min(n),
+        Some(f) if n > 0 => {
+            covering_count(count, tridiagonal::count_above(&d, &e, f.mu) + 1, n, f.grow)
+        }
         _ => count,
     };
     // A few of many: bisection and inverse iteration on T (O(n·count²) at

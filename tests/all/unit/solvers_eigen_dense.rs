@@ -196,3 +196,20 @@ fn a_floor_keeps_the_eigenvalues_above_it_and_the_next() {
     let (mu, _, _) = largest_eigenpairs_down_to(c, 20, None, Par::Seq, 4).unwrap();
     assert_eq!(mu.len(), 20);
 }
+
+/// The count rule of a growing cover reproduces a caller that solves again
+/// with twice the count: 40 asked, 48 wanted → 48; 90 wanted → 90 (40, 80,
+/// 160 covers it); on 70 unknowns, 60 wanted → all 70 (40, then 70 = n, where
+/// the caller asks without a cover); without growth at most the count.
+#[test]
+fn a_growing_cover_counts_as_a_doubling_caller_would() {
+    assert_eq!(covering_count(40, 48, 336, true), 48);
+    assert_eq!(covering_count(40, 90, 336, true), 90);
+    assert_eq!(covering_count(40, 20, 336, true), 20);
+    assert_eq!(covering_count(40, 40, 336, true), 40);
+    assert_eq!(covering_count(40, 60, 70, true), 70);
+    assert_eq!(covering_count(40, 70, 70, true), 70);
+    assert_eq!(covering_count(80, 90, 70, true), 70);
+    assert_eq!(covering_count(40, 48, 336, false), 40);
+    assert_eq!(covering_count(40, 20, 336, false), 20);
+}
