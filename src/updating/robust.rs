@@ -18,7 +18,9 @@
 use frfup_parsers::deck::Deck;
 
 use super::fullband::data::TestData;
-use super::fullband::estimate::{estimate, EstimateRequest, FullBandEstimate, SPREAD_START};
+use super::fullband::estimate::{
+    estimate, fit_start, EstimateRequest, FullBandEstimate, StartFit, SPREAD_START,
+};
 use super::fullband::FitError;
 use super::iterate::update_model;
 use super::{
@@ -56,9 +58,24 @@ pub fn update_robust(
     opts: &UpdateOptions,
     progress: &mut dyn FnMut(UpdateProgress),
 ) -> Result<UpdateResult, UpdateError> {
-    let mut result = first_stage(deck, test, opts, progress)?;
+    // The deck's own start of the estimate needs nothing of the first
+    // stage, which leaves a core idle most of its time: fitted beside it.
     let (column, _) = crate::testdata::layout::as_column(test);
-    let data = test_data(deck, &column)?;
+    let (first, side) = std::thread::scope(|scope| {
+        let side = scope.spawn(|| {
+            let data = test_data(deck, &column)?;
+            let np = model::parameter_names(deck).len();
+            let fitted = fit_start(deck, &data, &vec![0.0; np]);
+            Ok::<_, UpdateError>((data, fitted))
+        });
+        let first = first_stage(deck, test, opts, progress);
+        let side = side
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (first, side)
+    });
+    let mut result = first?;
+    let (data, fitted) = side?;
     let silent = data.silent_channels();
     if !silent.is_empty() {
         result
@@ -67,7 +84,7 @@ pub fn update_robust(
     }
     let np = result.parameter_names.len();
     progress(UpdateProgress::EstimateStarted);
-    let est = best_estimate(deck, &data, starts(&result, np), opts)?;
+    let est = best_estimate(deck, &data, starts(&result, np), opts, fitted)?;
     let values = est.values();
     let p_final: Vec<f64> = result
         .parameter_names
@@ -117,17 +134,18 @@ fn best_estimate(
     data: &TestData,
     starts: Vec<Vec<f64>>,
     opts: &UpdateOptions,
+    fitted: Option<StartFit>,
 ) -> Result<FullBandEstimate, UpdateError> {
     let max_iter = opts.estimate_iterations;
-    let run = |starts: Vec<Vec<f64>>| {
-        estimate(&EstimateRequest {
-            deck,
-            data,
-            starts,
-            max_iter,
-        })
+    let request = |starts: Vec<Vec<f64>>, fitted: Option<StartFit>| EstimateRequest {
+        deck,
+        data,
+        starts,
+        max_iter,
+        fitted,
     };
-    let mut best = run(starts.clone()).map_err(UpdateError::Estimate)?;
+    let run = |starts: Vec<Vec<f64>>| estimate(request(starts, None));
+    let mut best = estimate(request(starts.clone(), fitted)).map_err(UpdateError::Estimate)?;
     if best.misfit <= RESTART_MISFIT {
         return Ok(best);
     }

@@ -41,6 +41,7 @@ use super::fit::{self, DampingState, Mask};
 use super::lm::{self, LeastSquares, LmOutcome, LmSettings};
 use super::objective::{minimise, Objective};
 use super::prior::ParameterPrior;
+use super::reduced::ReducedModel;
 use super::uncertainty::{data_sd_at, residual_variance, uncertainty, Uncertainty};
 use super::FitError;
 use crate::model::{self, Damping, ParameterValues};
@@ -75,6 +76,37 @@ pub struct EstimateRequest<'a> {
     /// curved valley it is still descending at the noise level when the
     /// first pass's budget would stop it).
     pub max_iter: usize,
+    /// A start's damping fit done beforehand ([`fit_start`]), used for the
+    /// start it was done at.
+    pub fitted: Option<StartFit>,
+}
+
+/// A start's damping fit: the structural unknowns held at `p`, the
+/// damping alone fitted by Levenberg–Marquardt, and the reduced model
+/// anchored at `p`.
+pub struct StartFit {
+    /// The mean squared data residual after the fit.
+    cost: f64,
+    p: Vec<f64>,
+    damping: DampingState,
+    reduced: Option<ReducedModel>,
+    /// Model solutions spent.
+    solutions: usize,
+}
+
+/// The damping fit at `start` (clamped to the bounds) on its own, as
+/// [`estimate`] does it for each of its starts; `None` where the model
+/// cannot be solved there. It needs nothing but the deck and the data, so
+/// `update` runs it for the deck's own start beside its first stage.
+pub fn fit_start(deck: &Deck, data: &TestData, start: &[f64]) -> Option<StartFit> {
+    let (mut obj, damp0) = objective(deck, data);
+    let (dlo, dhi) = bounds(&obj.priors, damp0.form, data);
+    let p = clamped_start(start, &dlo, &dhi);
+    let fit = damping_fit(&mut obj, p, &damp0, &dlo, &dhi);
+    fit.map(|f| StartFit {
+        solutions: obj.solutions,
+        ..f
+    })
 }
 
 /// One parameter's estimate.
@@ -136,32 +168,14 @@ impl FullBandEstimate {
 }
 
 /// Run the estimate.
-pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
-    let names = model::parameter_names(req.deck);
-    let priors = ParameterPrior::of_deck(req.deck);
-    if names.is_empty() || req.starts.is_empty() {
+pub fn estimate(req: EstimateRequest) -> Result<FullBandEstimate, FitError> {
+    if req.starts.is_empty() || model::parameter_names(req.deck).is_empty() {
         return Err(FitError::Data("no parameter to estimate".into()));
     }
-    let mask = Mask::all(req.data);
+    let (mut obj, damp0) = objective(req.deck, req.data);
+    let (names, priors, mask) = (obj.names.clone(), obj.priors.clone(), obj.mask.clone());
     let j0 = fit::noise_level(req.data, &mask).max(1e-12);
-    let prior_scale = ParameterPrior::row_scale(j0);
-    let damp0 = fit::start_damping(Damping::of_deck(req.deck), req.data);
-    let mut obj = Objective {
-        deck: req.deck,
-        data: req.data,
-        mask: mask.clone(),
-        names: names.clone(),
-        priors: priors.clone(),
-        form: damp0.form,
-        prior_scale,
-        reduced: None,
-        previous: None,
-        cache: None,
-        last: None,
-        solutions: 0,
-        spare: None,
-    };
-    let (start, mut p, mut damp) = best_start(&mut obj, &req.starts, &damp0)?;
+    let (start, mut p, mut damp) = best_start(&mut obj, &req.starts, &damp0, req.fitted)?;
     let (coarse_stage, spent) =
         coarse::coarse_frequencies(req.deck, req.data, &names, &priors, &mut p, &mut damp);
     obj.solutions += spent;
@@ -243,57 +257,112 @@ pub fn estimate(req: &EstimateRequest) -> Result<FullBandEstimate, FitError> {
     })
 }
 
+/// The objective on the deck's parameters and all the data, with the
+/// deck's priors and the noise level's prior scale, and the damping it
+/// starts from.
+fn objective<'a>(deck: &'a Deck, data: &'a TestData) -> (Objective<'a>, DampingState) {
+    let mask = Mask::all(data);
+    let j0 = fit::noise_level(data, &mask).max(1e-12);
+    let damp0 = fit::start_damping(Damping::of_deck(deck), data);
+    let obj = Objective {
+        deck,
+        data,
+        mask,
+        names: model::parameter_names(deck),
+        priors: ParameterPrior::of_deck(deck),
+        form: damp0.form,
+        prior_scale: ParameterPrior::row_scale(j0),
+        reduced: None,
+        previous: None,
+        cache: None,
+        last: None,
+        solutions: 0,
+        spare: None,
+    };
+    (obj, damp0)
+}
+
+/// A start's p̄ within the bounds.
+fn clamped_start(start: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    (0..start.len())
+        .map(|j| start[j].clamp(lo[j], hi[j]))
+        .collect()
+}
+
 /// The start (index, p̄ within the bounds, damping) whose damping-fitted
-/// data cost is lowest; the objective is left anchored there.
+/// data cost is lowest; the objective is left anchored there. A start that
+/// `fitted` holds is not fitted again.
 fn best_start(
     obj: &mut Objective,
     starts: &[Vec<f64>],
     damp0: &DampingState,
+    mut fitted: Option<StartFit>,
 ) -> Result<(usize, Vec<f64>, DampingState), FitError> {
     let np = obj.np();
     let (dlo, dhi) = bounds(&obj.priors, damp0.form, obj.data);
-    let mut best: Option<(f64, usize, Vec<f64>, DampingState, _)> = None;
+    let mut best: Option<(usize, StartFit)> = None;
     for (k, s) in starts.iter().enumerate() {
-        let p: Vec<f64> = (0..np).map(|j| s[j].clamp(dlo[j], dhi[j])).collect();
-        if obj.anchor(&p).is_err() {
-            continue;
-        }
-        // The damping alone: the structural unknowns held (lo = hi).
-        let (mut lo, mut hi) = (dlo.clone(), dhi.clone());
-        lo[..np].copy_from_slice(&p);
-        hi[..np].copy_from_slice(&p);
-        let x = [p.clone(), damp0.x.clone()].concat();
-        let Some(r0) = obj.residuals(&x) else {
-            continue;
+        let p = clamped_start(&s[..np], &dlo, &dhi);
+        let fit = match fitted.take_if(|f| f.p == p) {
+            Some(f) => {
+                obj.solutions += f.solutions;
+                Some(f)
+            }
+            None => damping_fit(obj, p, damp0, &dlo, &dhi),
         };
-        // The starts' costs differ by orders of magnitude where the choice
-        // matters: a gain below START_GAIN of the cost cannot change it.
-        let settings = LmSettings {
-            max_iter: START_ITERATIONS,
-            negligible: START_GAIN * r0.iter().map(|v| v * v).sum::<f64>(),
-            ..LmSettings::default()
-        };
-        let Some(out) = lm::lm(obj, &x, &lo, &hi, settings) else {
+        let Some(fit) = fit else {
             continue;
         };
-        let cost = fit::mean_sq(&out.residuals[..obj.data_rows(out.residuals.len())]);
-        if best.as_ref().is_none_or(|b| cost < b.0) {
-            let d = DampingState {
-                form: damp0.form,
-                x: out.x[np..].to_vec(),
-            };
-            best = Some((cost, k, p, d, obj.reduced.take()));
+        if best.as_ref().is_none_or(|b| fit.cost < b.1.cost) {
+            best = Some((k, fit));
         }
     }
-    let Some((_, k, p, d, reduced)) = best else {
+    let Some((k, fit)) = best else {
         return Err(FitError::Eigen(
             "no starting point gives a usable model".into(),
         ));
     };
-    obj.reduced = reduced;
+    obj.reduced = fit.reduced;
     obj.cache = None;
     obj.last = None;
-    Ok((k, p, d))
+    Ok((k, fit.p, fit.damping))
+}
+
+/// The damping alone fitted at `p` (the structural unknowns held: lo = hi),
+/// from `damp0`; the reduced model anchored at `p` is taken out of `obj`.
+fn damping_fit(
+    obj: &mut Objective,
+    p: Vec<f64>,
+    damp0: &DampingState,
+    dlo: &[f64],
+    dhi: &[f64],
+) -> Option<StartFit> {
+    let np = obj.np();
+    obj.anchor(&p).ok()?;
+    let (mut lo, mut hi) = (dlo.to_vec(), dhi.to_vec());
+    lo[..np].copy_from_slice(&p);
+    hi[..np].copy_from_slice(&p);
+    let x = [p.clone(), damp0.x.clone()].concat();
+    let r0 = obj.residuals(&x)?;
+    // The starts' costs differ by orders of magnitude where the choice
+    // matters: a gain below START_GAIN of the cost cannot change it.
+    let settings = LmSettings {
+        max_iter: START_ITERATIONS,
+        negligible: START_GAIN * r0.iter().map(|v| v * v).sum::<f64>(),
+        ..LmSettings::default()
+    };
+    let out = lm::lm(obj, &x, &lo, &hi, settings)?;
+    let cost = fit::mean_sq(&out.residuals[..obj.data_rows(out.residuals.len())]);
+    Some(StartFit {
+        cost,
+        p,
+        damping: DampingState {
+            form: damp0.form,
+            x: out.x[np..].to_vec(),
+        },
+        reduced: obj.reduced.take(),
+        solutions: 0,
+    })
 }
 
 /// The first pass's optimum, its uncertainty and the parameters (without
