@@ -400,19 +400,26 @@ fn first_pass(
         .collect();
     let out = minimise(obj, x0, lo, hi, max_iter, NEGLIGIBLE * j0)?;
     let all = vec![true; x0.len()];
-    let seen = uncertainty(obj, &out, &all, j0);
     // The information at the deck's values (p̄ = 0, the optimum's damping
     // and noise level) too: a parameter the data see only far from its deck
     // value (a joint made much softer, traded against a neighbour) is seen
     // through a linearisation that does not hold back to where the data
-    // lose it; its standard deviation there is not an honest one.
+    // lose it; its standard deviation there is not an honest one. It is
+    // computed on a fresh objective beside the optimum's (one anchored at
+    // the deck, which `obj` then takes over, as if it had anchored there
+    // itself after the optimum's uncertainty).
     let np = obj.np();
     let mut x_deck = out.x.clone();
     for (j, v) in x_deck[..np].iter_mut().enumerate() {
         *v = 0.0f64.clamp(lo[j], hi[j]);
     }
     let s2 = residual_variance(obj, &out, &all);
-    let at_deck = data_sd_at(obj, &x_deck, &all, s2);
+    let mut beside = obj.fresh();
+    let (seen, at_deck) = rayon::join(
+        || uncertainty(obj, &out, &all, j0),
+        || data_sd_at(&mut beside, &x_deck, &all, s2),
+    );
+    obj.take_anchor(beside);
     obj.priors = priors;
     let without_prior: Vec<bool> = obj.priors.iter().map(|p| p.sd.is_none()).collect();
     let directions = seen

@@ -190,19 +190,29 @@ pub fn normal_equations(jac: MatRef<'_, f64>, r: &[f64], idx: &[usize]) -> (Mat<
         gathered = Mat::from_fn(jac.nrows(), idx.len(), |i, k| jac[(i, idx[k])]);
         gathered.as_ref()
     };
-    let mut jtj = Mat::<f64>::zeros(idx.len(), idx.len());
-    matmul(
-        jtj.as_mut(),
-        Accum::Replace,
-        sub.transpose(),
-        sub,
-        1.0,
-        Par::Seq,
-    );
-    let jtr = (0..idx.len())
-        .map(|k| (0..r.len()).map(|i| sub[(i, k)] * r[i]).sum())
-        .collect();
-    (jtj, jtr)
+    // JᵀJ and Jᵀr side by side on the pool's threads, each computed as it
+    // would be alone.
+    let gram = || {
+        let mut jtj = Mat::<f64>::zeros(idx.len(), idx.len());
+        matmul(
+            jtj.as_mut(),
+            Accum::Replace,
+            sub.transpose(),
+            sub,
+            1.0,
+            Par::Seq,
+        );
+        jtj
+    };
+    let gradient = || {
+        (0..idx.len())
+            .map(|k| {
+                let col = sub.col(k);
+                (0..r.len()).map(|i| col[i] * r[i]).sum()
+            })
+            .collect()
+    };
+    rayon::join(gram, gradient)
 }
 
 /// Solve A x = b for a symmetric positive definite A (Cholesky); `None` if

@@ -66,6 +66,31 @@ impl Objective<'_> {
         self.names.len()
     }
 
+    /// The same objective with no reduced model yet (nothing solved).
+    pub fn fresh(&self) -> Self {
+        Objective {
+            mask: self.mask.clone(),
+            names: self.names.clone(),
+            priors: self.priors.clone(),
+            reduced: None,
+            previous: None,
+            cache: None,
+            last: None,
+            solutions: 0,
+            spare: None,
+            ..*self
+        }
+    }
+
+    /// Take `other`'s anchor, its solution and model FRFs, and count its
+    /// model solutions: the state `other`'s calls would have left here.
+    pub fn take_anchor(&mut self, other: Objective) {
+        self.solutions += other.solutions;
+        self.reduced = other.reduced;
+        self.cache = other.cache;
+        self.last = other.last;
+    }
+
     /// Build the reduced model at structural parameters `p`.
     pub fn anchor(&mut self, p: &[f64]) -> Result<(), FitError> {
         self.solutions += 1;
