@@ -71,9 +71,21 @@ pub fn columns(
     // one channel's block of columns at a time into the same two buffers
     // (the whole product would be lines × channels·parameters twice over,
     // megabytes written once and read once).
-    let (kernel, split) = kernels(pt, data, &lines);
-    let coef = parameter_coefficients(pt, &params, split);
-    let pairs = row_pairs(data, mask, &lines, pt.pred);
+    // The per-line factors beside the per-parameter coefficients, which
+    // run on the pool's threads. Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) /
+    // d_r², one kernel per free damping unknown.
+    let split = low_modes(pt, data);
+    let ((kernel, pairs, damping), coef) = rayon::join(
+        || {
+            let kernel = kernels(pt, data, &lines, split);
+            let damping: Vec<(usize, Split)> = (0..pt.damping.len())
+                .filter(|&k| free[np + k])
+                .map(|k| (np + k, damping_kernel(pt, data, &lines, k)))
+                .collect();
+            (kernel, row_pairs(data, mask, &lines, pt.pred), damping)
+        },
+        || parameter_coefficients(pt, &params, split),
+    );
     let data_n = data_rows(data, mask);
     let shape = (data_n + extra_rows, free.len());
     // Recycled storage is not zeroed as a whole (megabytes on a long
@@ -89,13 +101,6 @@ pub fn columns(
         }
         _ => Mat::<f64>::zeros(shape.0, shape.1),
     };
-    // Damping: ∂H_c = Σ_r a_cr (−i ∂D_r/∂x) / d_r², one kernel per free
-    // damping unknown.
-    let nd = pt.damping.len();
-    let damping: Vec<(usize, Split)> = (0..nd)
-        .filter(|&k| free[np + k])
-        .map(|k| (np + k, damping_kernel(pt, data, &lines, k)))
-        .collect();
     let a = Mat::from_fn(pt.modes.model.omega2.len(), nc, |r, c| {
         pt.modes.model.coeff[c][r]
     });
@@ -190,13 +195,18 @@ pub fn data_rows(data: &TestData, mask: &Mask) -> usize {
     n
 }
 
-/// The per-line kernels [Re, Im] of [1/d_r | −(∂d_r/∂λ)/d_r² | ω^{2k}] over
-/// the used lines, low modes (λ ≤ (2ω_max)²) one by one and the others by
-/// their series; and the number of low modes.
-fn kernels(pt: &Point, data: &TestData, lines: &[usize]) -> (Split, usize) {
-    let lam = &pt.modes.model.omega2;
+/// The number of low modes: λ ≤ (2ω_max)², each with kernels of its own.
+fn low_modes(pt: &Point, data: &TestData) -> usize {
     let w_max = data.omegas.iter().fold(0.0f64, |a, w| a.max(*w));
-    let nl = lam.iter().filter(|&&l| l <= (2.0 * w_max).powi(2)).count();
+    let lam = &pt.modes.model.omega2;
+    lam.iter().filter(|&&l| l <= (2.0 * w_max).powi(2)).count()
+}
+
+/// The per-line kernels [Re, Im] of [1/d_r | −(∂d_r/∂λ)/d_r² | ω^{2k}] over
+/// the used lines, the `nl` low modes one by one and the others by their
+/// series.
+fn kernels(pt: &Point, data: &TestData, lines: &[usize], nl: usize) -> Split {
+    let lam = &pt.modes.model.omega2;
     let damping = pt.form.damping(pt.damping);
     let width = 2 * nl + 3;
     let mut gr = Mat::<f64>::zeros(lines.len(), width);
@@ -214,7 +224,7 @@ fn kernels(pt: &Point, data: &TestData, lines: &[usize]) -> (Split, usize) {
             gr[(i, 2 * nl + k)] = (w * w).powi(k as i32);
         }
     }
-    ((gr, gi), nl)
+    (gr, gi)
 }
 
 /// The coefficients the kernels multiply: rows [∂a_cr | a_cr ∂λ_r | series
