@@ -59,23 +59,24 @@ pub fn update_robust(
     progress: &mut dyn FnMut(UpdateProgress),
 ) -> Result<UpdateResult, UpdateError> {
     // The deck's own start of the estimate needs nothing of the first
-    // stage, which leaves a core idle most of its time: fitted beside it.
+    // stage, which leaves a core idle most of its time: fitted beside it,
+    // as a task of the pool (a thread of its own would deadlock a pool of
+    // one thread when the update itself runs on it, as in `diagnose`: the
+    // pool's thread would wait for a thread that waits for the pool).
     let (column, _) = crate::testdata::layout::as_column(test);
-    let (first, side) = std::thread::scope(|scope| {
-        let side = scope.spawn(|| {
-            let data = test_data(deck, &column)?;
-            let np = model::parameter_names(deck).len();
-            let fitted = fit_start(deck, &data, &vec![0.0; np]);
-            Ok::<_, UpdateError>((data, fitted))
+    let mut side = None;
+    let first = rayon::in_place_scope(|scope| {
+        scope.spawn(|_| {
+            side = Some(test_data(deck, &column).map(|data| {
+                let np = model::parameter_names(deck).len();
+                let fitted = fit_start(deck, &data, &vec![0.0; np]);
+                (data, fitted)
+            }));
         });
-        let first = first_stage(deck, test, opts, progress);
-        let side = side
-            .join()
-            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-        (first, side)
+        first_stage(deck, test, opts, progress)
     });
     let mut result = first?;
-    let (data, fitted) = side?;
+    let (data, fitted) = side.expect("the scope ran its task")?;
     let silent = data.silent_channels();
     if !silent.is_empty() {
         result
