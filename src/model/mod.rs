@@ -187,7 +187,9 @@ pub fn sig(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
-    let e = x.abs().log10().floor() as i32;
+    // The decade of x rounded to four digits: 0.0099998 is 0.01000, not 0.010000.
+    let rounded: f64 = format!("{x:.3e}").parse().unwrap_or(x);
+    let e = rounded.abs().log10().floor() as i32;
     if (-3..6).contains(&e) {
         let d = (3 - e).max(0) as usize;
         format!("{x:.d$}")

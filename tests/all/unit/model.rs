@@ -40,3 +40,19 @@ fn modal_denominator_is_the_oscillators_dynamic_stiffness() {
     assert_eq!(d.im, 0.0);
     assert_eq!(d.re, -1e-9 - w * w);
 }
+
+/// Four significant digits, also where rounding carries into the next
+/// decade (0.0099998 reads 0.01000, not 0.010000; 999999.7 goes to e
+/// notation as 1e6 does).
+#[test]
+fn four_significant_digits_across_a_decade() {
+    use frfup::model::sig;
+    assert_eq!(sig(0.0099998), "0.01000");
+    assert_eq!(sig(0.0100006), "0.01000");
+    assert_eq!(sig(0.012345), "0.01235");
+    assert_eq!(sig(9999.7), "10000");
+    assert_eq!(sig(999999.7), "1.000e6");
+    assert_eq!(sig(0.00099996), "0.001000");
+    assert_eq!(sig(3.1819963e-6), "3.182e-6");
+    assert_eq!(sig(-0.0099998), "-0.01000");
+}
