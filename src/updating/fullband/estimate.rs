@@ -264,21 +264,9 @@ fn objective<'a>(deck: &'a Deck, data: &'a TestData) -> (Objective<'a>, DampingS
     let mask = Mask::all(data);
     let j0 = fit::noise_level(data, &mask).max(1e-12);
     let damp0 = fit::start_damping(Damping::of_deck(deck), data);
-    let obj = Objective {
-        deck,
-        data,
-        mask,
-        names: model::parameter_names(deck),
-        priors: ParameterPrior::of_deck(deck),
-        form: damp0.form,
-        prior_scale: ParameterPrior::row_scale(j0),
-        reduced: None,
-        previous: None,
-        cache: None,
-        last: None,
-        solutions: 0,
-        spare: None,
-    };
+    let parameters = (model::parameter_names(deck), ParameterPrior::of_deck(deck));
+    let scale = ParameterPrior::row_scale(j0);
+    let obj = Objective::new(deck, data, mask, parameters, damp0.form, scale);
     (obj, damp0)
 }
 

@@ -60,26 +60,54 @@ pub struct Objective<'a> {
     pub spare: Option<Mat<f64>>,
 }
 
-impl Objective<'_> {
-    /// Number of structural parameters.
-    pub fn np(&self) -> usize {
-        self.names.len()
-    }
-
-    /// The same objective with no reduced model yet (nothing solved).
-    pub fn fresh(&self) -> Self {
+impl<'a> Objective<'a> {
+    /// The objective of `names` (with their `priors`) on `data` within
+    /// `mask`, damping of the given form, prior rows scaled by `prior_scale`
+    /// (√J₀); nothing solved yet.
+    pub fn new(
+        deck: &'a Deck,
+        data: &'a TestData,
+        mask: Mask,
+        (names, priors): (Vec<String>, Vec<ParameterPrior>),
+        form: DampingForm,
+        prior_scale: f64,
+    ) -> Self {
         Objective {
-            mask: self.mask.clone(),
-            names: self.names.clone(),
-            priors: self.priors.clone(),
+            deck,
+            data,
+            mask,
+            names,
+            priors,
+            form,
+            prior_scale,
             reduced: None,
             previous: None,
             cache: None,
             last: None,
             solutions: 0,
             spare: None,
-            ..*self
         }
+    }
+
+    /// The same objective with nothing solved yet.
+    pub fn fresh(&self) -> Self {
+        let parameters = (self.names.clone(), self.priors.clone());
+        let mask = self.mask.clone();
+        Objective::new(
+            self.deck,
+            self.data,
+            mask,
+            parameters,
+            self.form,
+            self.prior_scale,
+        )
+    }
+}
+
+impl Objective<'_> {
+    /// Number of structural parameters.
+    pub fn np(&self) -> usize {
+        self.names.len()
     }
 
     /// Take `other`'s anchor, its solution and model FRFs, and count its
