@@ -69,7 +69,9 @@ pub fn update_robust(
         scope.spawn(|_| {
             side = Some(test_data(deck, &column).map(|data| {
                 let np = model::parameter_names(deck).len();
-                let fitted = fit_start(deck, &data, &vec![0.0; np]);
+                let fitted = (np > 0)
+                    .then(|| fit_start(deck, &data, &vec![0.0; np]))
+                    .flatten();
                 (data, fitted)
             }));
         });
