@@ -182,11 +182,9 @@ fn shift_invert_in_order(
     // ω² ≤ ω²_top ⟺ μ = 1/(ω² − σ) ≥ 1/(ω²_top − σ) (σ < 0 < ω²_top).
     let floor = cover
         .filter(|cv| cv.omega2 > sigma && cv.omega2.is_finite())
-        .map(|cv| Floor {
-            mu: 1.0 / (cv.omega2 - sigma),
-            grow: cv.grow,
-        });
-    let (_, mut y, _) = largest_eigenpairs_covering(c, count, floor, par, SUBSET_BELOW)?;
+        .map(|cv| 1.0 / (cv.omega2 - sigma));
+    let grow = cover.is_some_and(|cv| cv.grow);
+    let (_, mut y, _) = largest_eigenpairs_covering(c, count, floor, grow, par, SUBSET_BELOW)?;
     lap("evd");
     back_substitute(l.as_ref(), &envelope, y.as_mut(), par);
     lap("back-substitution");
@@ -417,8 +415,7 @@ pub fn largest_eigenpairs_down_to(
     par: Par,
     subset_below: usize,
 ) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
-    let floor = floor.map(|mu| Floor { mu, grow: false });
-    largest_eigenpairs_covering(c, count, floor, par, subset_below)
+    largest_eigenpairs_covering(c, count, floor, false, par, subset_below)
 }
 
 /// Which modes [`shift_invert`] returns besides its count: those with
@@ -431,14 +428,6 @@ pub struct Cover {
     /// doubles until the modes reach past ω²_top, every mode once it reaches
     /// n (then as if there were no cover): what a caller solving again with
     /// twice the count would get, in one solution ([`covering_count`]).
-    pub grow: bool,
-}
-
-/// The eigenvalues μ ≥ `mu` of [`largest_eigenpairs_covering`] and the one
-/// below them, at most `count` of them unless `grow` (see [`Cover::grow`]).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Floor {
-    pub mu: f64,
     pub grow: bool,
 }
 
@@ -461,11 +450,13 @@ pub fn covering_count(count: usize, wanted: usize, n: usize, grow: bool) -> usiz
     }
 }
 
-/// [`largest_eigenpairs_down_to`] with the floor's count rule of [`Floor`].
+/// [`largest_eigenpairs_down_to`], and with `grow` the count rule of
+/// [`Cover::grow`] ([`covering_count`]) above the floor.
 pub fn largest_eigenpairs_covering(
     mut c: Mat<f64>,
     count: usize,
-    floor: Option<Floor>,
+    floor: Option<f64>,
+    grow: bool,
     par: Par,
     subset_below: usize,
 ) -> Result<(Vec<f64>, Mat<f64>, bool), EigenError> {
@@ -494,8 +485,8 @@ pub fn largest_eigenpairs_covering(
     let d: Vec<f64> = diag.iter().copied().collect();
     let e: Vec<f64> = subdiag.iter().copied().collect();
     let count = match floor {
-        Some(f) if n > 0 => {
-            covering_count(count, tridiagonal::count_above(&d, &e, f.mu) + 1, n, f.grow)
+        Some(mu) if n > 0 => {
+            covering_count(count, tridiagonal::count_above(&d, &e, mu) + 1, n, grow)
         }
         _ => count,
     };

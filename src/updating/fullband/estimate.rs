@@ -99,7 +99,7 @@ pub struct StartFit {
 /// cannot be solved there. It needs nothing but the deck and the data, so
 /// `update` runs it for the deck's own start beside its first stage.
 pub fn fit_start(deck: &Deck, data: &TestData, start: &[f64]) -> Option<StartFit> {
-    let (mut obj, damp0) = objective(deck, data);
+    let (mut obj, damp0, _) = objective(deck, data);
     let (dlo, dhi) = bounds(&obj.priors, damp0.form, data);
     let p = clamped_start(start, &dlo, &dhi);
     let fit = damping_fit(&mut obj, p, &damp0, &dlo, &dhi);
@@ -172,9 +172,8 @@ pub fn estimate(req: EstimateRequest) -> Result<FullBandEstimate, FitError> {
     if req.starts.is_empty() || model::parameter_names(req.deck).is_empty() {
         return Err(FitError::Data("no parameter to estimate".into()));
     }
-    let (mut obj, damp0) = objective(req.deck, req.data);
+    let (mut obj, damp0, j0) = objective(req.deck, req.data);
     let (names, priors, mask) = (obj.names.clone(), obj.priors.clone(), obj.mask.clone());
-    let j0 = fit::noise_level(req.data, &mask).max(1e-12);
     let (start, mut p, mut damp) = best_start(&mut obj, &req.starts, &damp0, req.fitted)?;
     let (coarse_stage, spent) =
         coarse::coarse_frequencies(req.deck, req.data, &names, &priors, &mut p, &mut damp);
@@ -258,16 +257,16 @@ pub fn estimate(req: EstimateRequest) -> Result<FullBandEstimate, FitError> {
 }
 
 /// The objective on the deck's parameters and all the data, with the
-/// deck's priors and the noise level's prior scale, and the damping it
-/// starts from.
-fn objective<'a>(deck: &'a Deck, data: &'a TestData) -> (Objective<'a>, DampingState) {
+/// deck's priors and the noise level's prior scale, the damping it starts
+/// from, and the noise level J₀ of a mean squared residual.
+fn objective<'a>(deck: &'a Deck, data: &'a TestData) -> (Objective<'a>, DampingState, f64) {
     let mask = Mask::all(data);
     let j0 = fit::noise_level(data, &mask).max(1e-12);
     let damp0 = fit::start_damping(Damping::of_deck(deck), data);
     let parameters = (model::parameter_names(deck), ParameterPrior::of_deck(deck));
     let scale = ParameterPrior::row_scale(j0);
     let obj = Objective::new(deck, data, mask, parameters, damp0.form, scale);
-    (obj, damp0)
+    (obj, damp0, j0)
 }
 
 /// A start's p̄ within the bounds.

@@ -102,9 +102,7 @@ impl<'a> Objective<'a> {
             self.prior_scale,
         )
     }
-}
 
-impl Objective<'_> {
     /// Number of structural parameters.
     pub fn np(&self) -> usize {
         self.names.len()
