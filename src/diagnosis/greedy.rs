@@ -29,6 +29,7 @@ use super::refit;
 use super::round::{search_round, Round};
 use super::search::{ReUpdate, Search};
 use super::select::{self, Engine, FitRequest, HypFit};
+use super::with_accepted;
 use super::{sig, Alternative, DiagnoseError, Finding, Rejected};
 use crate::model::{self, ParameterValues};
 
@@ -265,7 +266,14 @@ impl Greedy {
             return true;
         }
         let Some(best) = scored.first().cloned() else {
-            return false;
+            // Within the budget, as the rounds are: the second always.
+            return (round <= 1 || pairs)
+                && self.take_with_accepted(
+                    search,
+                    round,
+                    (&step.fitted, step.large),
+                    step.parameters_only,
+                );
         };
         let joint = !best.1.deck_values.is_empty();
         self.accept_single(round, best, &scored, m, engine.data);
@@ -404,6 +412,72 @@ impl Greedy {
         self.current = current;
         self.damp = bf.damping.clone();
         self.cost = bf.cost;
+        true
+    }
+
+    /// When no candidate of the round passes: the best few fitted again with
+    /// the accepted extensions and the deck's parameters free
+    /// ([`with_accepted`]); the best is accepted, with the values of that
+    /// fit, if it predicts held-out data better than the same fit without
+    /// it by more than the margin, else recorded as rejected.
+    fn take_with_accepted(
+        &mut self,
+        search: &Search,
+        round: usize,
+        (fitted, large): (&[(Hypothesis, HypFit)], bool),
+        parameters_only: Option<f64>,
+    ) -> bool {
+        let engine = search.engine;
+        let Some((w, refitted)) = with_accepted::best_with_accepted(
+            engine,
+            &self.base,
+            &self.accepted,
+            fitted,
+            &self.damp,
+            large,
+        ) else {
+            return false;
+        };
+        let h = w.hypothesis;
+        // Against the best the model without it predicts: the current
+        // model, the deck's parameters refitted alone, or those and the
+        // accepted values refitted.
+        let reference =
+            parameters_only.map_or(refitted.min(self.v), |vp| vp.min(refitted.min(self.v)));
+        let m = select::margin(reference, search.j0);
+        if !(w.v < reference - m) {
+            self.rejected.push(Rejected {
+                label: format!("{} (with the accepted extensions refitted)", h.label),
+                round: round + 1,
+                value: w.fit.logs.last().map(|l| l.exp()),
+                validation_error: w.v,
+                reason: format!(
+                    "validation error {:.4} not below {reference:.4} (the model without it) − margin {m:.4}",
+                    w.v
+                ),
+            });
+            return false;
+        }
+        self.findings.push(Finding {
+            physics: h.physics,
+            nodes: h.nodes.clone(),
+            dofs: h.dofs.clone(),
+            parameters: BTreeMap::new(),
+            uncertainty: BTreeMap::new(),
+            validation_error_before: self.v,
+            validation_error_after: w.v,
+            label: h.label.clone(),
+            alternatives: vec![],
+            tell_apart: None,
+        });
+        self.accepted.push((h, None));
+        set_values(&mut self.accepted, &mut self.findings, &w.fit);
+        self.base = model::updated_deck(&self.base, &w.fit.deck_values);
+        self.base_values = model::composed_values(&self.base_values, &w.fit.deck_values);
+        self.current = apply_accepted(&self.base, &self.accepted);
+        self.damp = w.fit.damping.clone();
+        self.cost = w.fit.cost;
+        self.v = w.v;
         true
     }
 

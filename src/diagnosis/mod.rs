@@ -33,6 +33,7 @@ mod places;
 mod prune;
 mod round;
 mod search;
+mod with_accepted;
 
 use std::collections::BTreeMap;
 
