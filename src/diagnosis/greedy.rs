@@ -271,7 +271,8 @@ impl Greedy {
                 && self.take_with_accepted(
                     search,
                     round,
-                    (&step.fitted, step.large),
+                    &step.fitted,
+                    step.large,
                     step.parameters_only,
                 );
         };
@@ -418,17 +419,21 @@ impl Greedy {
     /// When no candidate of the round passes: the best few fitted again with
     /// the accepted extensions and the deck's parameters free
     /// ([`with_accepted`]); the best is accepted, with the values of that
-    /// fit, if it predicts held-out data better than the same fit without
-    /// it by more than the margin, else recorded as rejected.
+    /// fit, if it predicts held-out data better by more than the margin
+    /// than the best the model without it does (the current model, the
+    /// deck's parameters refitted alone `parameters_only`, and the joint
+    /// fit without it, computed only when the first two are beaten), else
+    /// recorded as rejected.
     fn take_with_accepted(
         &mut self,
         search: &Search,
         round: usize,
-        (fitted, large): (&[(Hypothesis, HypFit)], bool),
+        fitted: &[(Hypothesis, HypFit)],
+        large: bool,
         parameters_only: Option<f64>,
     ) -> bool {
         let engine = search.engine;
-        let Some((w, refitted)) = with_accepted::best_with_accepted(
+        let Some(w) = with_accepted::best_with_accepted(
             engine,
             &self.base,
             &self.accepted,
@@ -439,13 +444,18 @@ impl Greedy {
             return false;
         };
         let h = w.hypothesis;
-        // Against the best the model without it predicts: the current
-        // model, the deck's parameters refitted alone, or those and the
-        // accepted values refitted.
-        let reference =
-            parameters_only.map_or(refitted.min(self.v), |vp| vp.min(refitted.min(self.v)));
-        let m = select::margin(reference, search.j0);
-        if !(w.v < reference - m) {
+        let passes = |reference: f64| w.v < reference - select::margin(reference, search.j0);
+        // v − margin(v) grows with v: the smallest reference is the
+        // strictest, and the joint fit without it is needed only when the
+        // others are beaten.
+        let mut reference = parameters_only.map_or(self.v, |vp| vp.min(self.v));
+        if passes(reference) {
+            let without =
+                with_accepted::refitted_without(engine, &self.base, &self.accepted, &self.damp);
+            reference = without.map_or(reference, |r| r.min(reference));
+        }
+        if !passes(reference) {
+            let m = select::margin(reference, search.j0);
             self.rejected.push(Rejected {
                 label: format!("{} (with the accepted extensions refitted)", h.label),
                 round: round + 1,
@@ -458,18 +468,8 @@ impl Greedy {
             });
             return false;
         }
-        self.findings.push(Finding {
-            physics: h.physics,
-            nodes: h.nodes.clone(),
-            dofs: h.dofs.clone(),
-            parameters: BTreeMap::new(),
-            uncertainty: BTreeMap::new(),
-            validation_error_before: self.v,
-            validation_error_after: w.v,
-            label: h.label.clone(),
-            alternatives: vec![],
-            tell_apart: None,
-        });
+        let finding = unvalued_finding(&h, (reference, w.v), h.label.clone());
+        self.findings.push(finding);
         self.accepted.push((h, None));
         set_values(&mut self.accepted, &mut self.findings, &w.fit);
         self.base = model::updated_deck(&self.base, &w.fit.deck_values);
@@ -477,7 +477,12 @@ impl Greedy {
         self.current = apply_accepted(&self.base, &self.accepted);
         self.damp = w.fit.damping.clone();
         self.cost = w.fit.cost;
-        self.v = w.v;
+        // The next round's reference, as after a joint single: the new
+        // model with its damping refitted on each fold (its candidates are
+        // fitted with the deck's parameters held).
+        self.v = engine
+            .fit(&FitRequest::damping(&self.current, &self.damp, &engine.all))
+            .map_or(w.v, |bf| engine.validate(None, &self.current, &bf));
         true
     }
 
@@ -499,18 +504,9 @@ impl Greedy {
         let v_before = self.v;
         for h in &p.hyps {
             self.accepted.push((h.clone(), None));
-            self.findings.push(Finding {
-                physics: h.physics,
-                nodes: h.nodes.clone(),
-                dofs: h.dofs.clone(),
-                parameters: BTreeMap::new(),
-                uncertainty: BTreeMap::new(),
-                validation_error_before: v_before,
-                validation_error_after: p.v,
-                label: format!("{} (fitted jointly with the next)", h.label),
-                alternatives: vec![],
-                tell_apart: None,
-            });
+            let label = format!("{} (fitted jointly with the next)", h.label);
+            self.findings
+                .push(unvalued_finding(h, (v_before, p.v), label));
         }
         if let Some(last) = self.findings.last_mut() {
             last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
@@ -804,6 +800,23 @@ pub(super) fn apply_accepted(start: &Deck, accepted: &[(Hypothesis, Option<f64>)
     accepted
         .iter()
         .fold(start.clone(), |d, (h, v)| h.apply(&d, *v))
+}
+
+/// The finding of `h` accepted from a joint fit, its value written later
+/// ([`set_values`]): validation errors (before, after), no alternatives.
+fn unvalued_finding(h: &Hypothesis, (before, after): (f64, f64), label: String) -> Finding {
+    Finding {
+        physics: h.physics,
+        nodes: h.nodes.clone(),
+        dofs: h.dofs.clone(),
+        parameters: BTreeMap::new(),
+        uncertainty: BTreeMap::new(),
+        validation_error_before: before,
+        validation_error_after: after,
+        label,
+        alternatives: vec![],
+        tell_apart: None,
+    }
 }
 
 /// Write the values and uncertainties of a joint fit over all accepted

@@ -13,9 +13,11 @@
 //! again with the accepted extensions' values and the deck's parameters
 //! free (x = ln θ of the accepted, ln θ of the new one, p̄), from the
 //! accepted values, a grid over the new one's range and its single fit.
-//! Its reference is the same fit without the new extension: the accepted
-//! values and the deck's parameters refitted alone, so that the new
-//! extension competes with what re-estimating the old ones achieves.
+//! The best is judged (in `greedy.rs`) against the best the model without
+//! it predicts: the current model, the deck's parameters refitted alone,
+//! and the same joint fit without the new extension
+//! ([`refitted_without`]), so that it competes with what re-estimating the
+//! old ones achieves.
 
 use frfup_parsers::deck::Deck;
 use rayon::prelude::*;
@@ -50,9 +52,8 @@ pub(super) struct WithAccepted {
 /// The best (by validation error) of the round's fitted candidates
 /// `fitted` (cost order) refitted with the accepted extensions `accepted`
 /// (on `base`, their values) and the deck's parameters, of those well
-/// determined and inside their bounds; returned with the validation error
-/// of the same fit without it (the reference). `None` when nothing was
-/// accepted with a value or no fit qualifies.
+/// determined and inside their bounds. `None` when nothing was accepted
+/// with a value or no fit qualifies.
 pub(super) fn best_with_accepted(
     engine: &Engine,
     base: &Deck,
@@ -60,12 +61,11 @@ pub(super) fn best_with_accepted(
     fitted: &[(Hypothesis, HypFit)],
     damp: &DampingState,
     large: bool,
-) -> Option<(WithAccepted, f64)> {
+) -> Option<WithAccepted> {
     if accepted.iter().all(|a| a.1.is_none()) {
         return None;
     }
-    let logs: Vec<f64> = accepted.iter().filter_map(|a| a.1.map(f64::ln)).collect();
-    let reference = reference_fit(engine, base, accepted, &logs, damp)?;
+    let logs = accepted_logs(accepted);
     let pool: Vec<&(Hypothesis, HypFit)> = fitted
         .iter()
         .filter(|(h, _)| h.param.is_some() && h.physics != Physics::Suspension)
@@ -75,24 +75,32 @@ pub(super) fn best_with_accepted(
         .par_iter()
         .map(|(h, f)| refit_with(engine, base, accepted, &logs, h, f, damp))
         .collect();
-    let best = fits
-        .into_iter()
+    fits.into_iter()
         .flatten()
-        .min_by(|a, b| a.v.total_cmp(&b.v))?;
-    Some((best, reference))
+        .min_by(|a, b| a.v.total_cmp(&b.v))
+}
+
+/// The log values of the accepted extensions with a parameter, in order
+/// (the first unknowns of a [`Joint`] over them).
+fn accepted_logs(accepted: &[(Hypothesis, Option<f64>)]) -> Vec<f64> {
+    accepted
+        .iter()
+        .filter(|a| a.0.param.is_some())
+        .map(|a| a.1.map_or(0.0, f64::ln))
+        .collect()
 }
 
 /// The accepted extensions and the deck's parameters refitted without a new
-/// extension, from the accepted values: its validation error.
-fn reference_fit(
+/// extension, from the accepted values: its validation error (`None` when
+/// no model results).
+pub(super) fn refitted_without(
     engine: &Engine,
     base: &Deck,
     accepted: &[(Hypothesis, Option<f64>)],
-    logs: &[f64],
     damp: &DampingState,
 ) -> Option<f64> {
     let problem = Joint::with_deck_parameters(base, accepted.iter().map(|a| &a.0).collect());
-    let mut start = logs.to_vec();
+    let mut start = accepted_logs(accepted);
     start.extend(std::iter::repeat_n(0.0, problem.deck_params.len()));
     let settings = JointSettings {
         frequency_stage: false,
