@@ -285,14 +285,7 @@ impl Greedy {
             last.validation_error_before = vp;
         }
         if joint {
-            // The next round's reference for candidates fitted with the
-            // deck's parameters held: the new model with its damping refitted
-            // on each fold, as theirs will be.
-            if let Some(bf) =
-                engine.fit(&FitRequest::damping(&self.current, &self.damp, &engine.all))
-            {
-                self.v = engine.validate(None, &self.current, &bf);
-            }
+            self.validate_as_held(engine);
         }
         self.reestimate_jointly(engine);
         self.choose_damping_form_again(search);
@@ -471,19 +464,22 @@ impl Greedy {
         let finding = unvalued_finding(&h, (reference, w.v), h.label.clone());
         self.findings.push(finding);
         self.accepted.push((h, None));
-        set_values(&mut self.accepted, &mut self.findings, &w.fit);
         self.base = model::updated_deck(&self.base, &w.fit.deck_values);
         self.base_values = model::composed_values(&self.base_values, &w.fit.deck_values);
-        self.current = apply_accepted(&self.base, &self.accepted);
-        self.damp = w.fit.damping.clone();
-        self.cost = w.fit.cost;
-        // The next round's reference, as after a joint single: the new
-        // model with its damping refitted on each fold (its candidates are
-        // fitted with the deck's parameters held).
-        self.v = engine
-            .fit(&FitRequest::damping(&self.current, &self.damp, &engine.all))
-            .map_or(w.v, |bf| engine.validate(None, &self.current, &bf));
+        self.take_refit(&w.fit);
+        self.v = w.v;
+        self.validate_as_held(engine);
         true
+    }
+
+    /// The next round's reference after an extension fitted with the deck's
+    /// parameters: the new model with its damping refitted on each fold, as
+    /// the round's candidates (fitted with the parameters held) will be; the
+    /// validation error stays as it is when no model results.
+    fn validate_as_held(&mut self, engine: &Engine) {
+        if let Some(bf) = engine.fit(&FitRequest::damping(&self.current, &self.damp, &engine.all)) {
+            self.v = engine.validate(None, &self.current, &bf);
+        }
     }
 
     /// Accept the pair `p` (both extensions, fitted jointly with the
@@ -511,10 +507,7 @@ impl Greedy {
         if let Some(last) = self.findings.last_mut() {
             last.label = format!("{} (fitted jointly with the previous)", p.hyps[1].label);
         }
-        set_values(&mut self.accepted, &mut self.findings, &p.fit);
-        self.current = apply_accepted(&self.base, &self.accepted);
-        self.damp = p.fit.damping.clone();
-        self.cost = p.fit.cost;
+        self.take_refit(&p.fit);
         self.v = p.v;
     }
 
@@ -623,10 +616,7 @@ impl Greedy {
         if jf.cost < self.cost && !jf.on_bound.iter().any(|b| *b) {
             let vj = refit::validate_joint(engine, &problem, &jf);
             if vj <= self.v {
-                set_values(&mut self.accepted, &mut self.findings, &jf);
-                self.current = apply_accepted(&self.base, &self.accepted);
-                self.damp = jf.damping.clone();
-                self.cost = jf.cost;
+                self.take_refit(&jf);
                 self.v = vj;
                 if let Some(last) = self.findings.last_mut() {
                     last.validation_error_after = vj;
@@ -741,8 +731,8 @@ impl Greedy {
         self.v = v;
     }
 
-    /// Take the values and the damping of `jf`, a fit of
-    /// [`Self::refitted_on`].
+    /// Take the values and the damping of `jf`, a joint fit over the
+    /// accepted extensions on `base` (its validation error is the caller's).
     pub(super) fn take_refit(&mut self, jf: &refit::JointFit) {
         set_values(&mut self.accepted, &mut self.findings, jf);
         self.current = apply_accepted(&self.base, &self.accepted);

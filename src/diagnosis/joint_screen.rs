@@ -24,7 +24,7 @@ const SCREEN_ITERATIONS: usize = 8;
 
 /// A full joint fit: resonance-frequency stage, then the FRFs, 10
 /// Levenberg–Marquardt iterations each.
-const FULL_FIT: JointSettings = JointSettings {
+pub(super) const FULL_FIT: JointSettings = JointSettings {
     frequency_stage: true,
     iterations: 10,
 };
@@ -103,16 +103,7 @@ pub(super) fn frequency_seeded_with(
     damp: &DampingState,
     grid: Option<&HypFit>,
 ) -> Option<HypFit> {
-    let (lo, hi) = problem.bounds();
-    let np = problem.deck_params.len();
-    let mut fixed = vec![None];
-    fixed.extend(std::iter::repeat_n(Some(0.0), np));
-    let mut starts = refit::grid_starts(&lo, &hi, &fixed, 7);
-    if let Some(s) = grid.and_then(|g| g.log_value) {
-        let mut x = vec![s];
-        x.extend(std::iter::repeat_n(0.0, np));
-        starts.push(x);
-    }
+    let starts = refit::new_extension_starts(problem, &[], grid.and_then(|g| g.log_value), 7);
     let jf = refit::fit_joint(engine, problem, &starts, damp, &engine.all, FULL_FIT)?;
     let value = jf.logs[0].exp();
     Some(HypFit {

@@ -173,6 +173,31 @@ pub struct JointFit {
     pub on_bound: Vec<bool>,
 }
 
+/// Starts of a problem whose last extension (after those `held`, as log
+/// values) is new: the held values, the new one's log value on
+/// `per_axis` points over its range and at `single` (its fit alone, when
+/// given), the deck's parameters (if fitted along) at 0.
+pub fn new_extension_starts(
+    problem: &Joint,
+    held: &[f64],
+    single: Option<f64>,
+    per_axis: usize,
+) -> Vec<Vec<f64>> {
+    let (lo, hi) = problem.bounds();
+    let np = problem.deck_params.len();
+    let mut fixed: Vec<Option<f64>> = held.iter().map(|&l| Some(l)).collect();
+    fixed.push(None);
+    fixed.extend(std::iter::repeat_n(Some(0.0), np));
+    let mut starts = grid_starts(&lo, &hi, &fixed, per_axis);
+    if let Some(s) = single {
+        let mut x = held.to_vec();
+        x.push(s);
+        x.extend(std::iter::repeat_n(0.0, np));
+        starts.push(x);
+    }
+    starts
+}
+
 /// Starts on a grid: entries of `fixed` that are `Some` stay, each `None`
 /// takes `per_axis` values evenly spaced in its range [lo, hi] (inside by
 /// half a step); the product of all.

@@ -24,6 +24,7 @@ use rayon::prelude::*;
 
 use super::fit::DampingState;
 use super::hypotheses::{Hypothesis, Physics};
+use super::joint_screen::FULL_FIT;
 use super::refit::{self, Joint, JointFit, JointSettings};
 use super::select::{Engine, HypFit};
 
@@ -31,13 +32,6 @@ use super::select::{Engine, HypFit};
 const CANDIDATES: usize = 3;
 /// Grid points over the new extension's log range.
 const PER_AXIS: usize = 5;
-
-/// The joint fit of the new extension's problem: resonance-frequency stage,
-/// then the FRFs, 10 Levenberg–Marquardt iterations each.
-const SETTINGS: JointSettings = JointSettings {
-    frequency_stage: true,
-    iterations: 10,
-};
 
 /// A new extension fitted with the accepted ones and the deck's parameters.
 pub(super) struct WithAccepted {
@@ -104,7 +98,7 @@ pub(super) fn refitted_without(
     start.extend(std::iter::repeat_n(0.0, problem.deck_params.len()));
     let settings = JointSettings {
         frequency_stage: false,
-        ..SETTINGS
+        ..FULL_FIT
     };
     let jf = refit::fit_joint(engine, &problem, &[start], damp, &engine.all, settings)?;
     Some(refit::validate_joint(engine, &problem, &jf))
@@ -125,19 +119,8 @@ fn refit_with(
     let mut hyps: Vec<&Hypothesis> = accepted.iter().map(|a| &a.0).collect();
     hyps.push(h);
     let problem = Joint::with_deck_parameters(base, hyps);
-    let (lo, hi) = problem.bounds();
-    let np = problem.deck_params.len();
-    let mut fixed: Vec<Option<f64>> = logs.iter().map(|&l| Some(l)).collect();
-    fixed.push(None);
-    fixed.extend(std::iter::repeat_n(Some(0.0), np));
-    let mut starts = refit::grid_starts(&lo, &hi, &fixed, PER_AXIS);
-    if let Some(s) = f.log_value {
-        let mut x = logs.to_vec();
-        x.push(s);
-        x.extend(std::iter::repeat_n(0.0, np));
-        starts.push(x);
-    }
-    let jf = refit::fit_joint(engine, &problem, &starts, damp, &engine.all, SETTINGS)?;
+    let starts = refit::new_extension_starts(&problem, logs, f.log_value, PER_AXIS);
+    let jf = refit::fit_joint(engine, &problem, &starts, damp, &engine.all, FULL_FIT)?;
     let new = logs.len();
     if jf.on_bound[new] || !(jf.std_log[new] < 1.0) {
         return None;
